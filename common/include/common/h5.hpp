@@ -1,0 +1,90 @@
+/// @file h5.hpp
+/// Thin RAII wrappers over the HDF5 C API: files, groups, attributes and 1-D/2-D datasets,
+/// each dataset written with a `unit` attribute. Readers check dtype class/size and shape and
+/// throw InputError naming the file and dataset path.
+#pragma once
+#include <hdf5.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/provenance.hpp"
+
+namespace common::h5 {
+
+/// Owning handle; closes with the matching H5*close.
+class Handle {
+ public:
+  Handle() = default;
+  explicit Handle(hid_t id) : id_(id) {}
+  ~Handle();
+  Handle(const Handle&) = delete;
+  Handle& operator=(const Handle&) = delete;
+  Handle(Handle&& o) noexcept : id_(o.id_) { o.id_ = -1; }
+  Handle& operator=(Handle&& o) noexcept;
+  hid_t id() const { return id_; }
+  operator hid_t() const { return id_; }
+  bool valid() const { return id_ >= 0; }
+
+ private:
+  hid_t id_ = -1;
+};
+
+/// Create (truncate) a file for writing; throws IoError.
+Handle create_file(const std::string& path);
+/// Open an existing file read-only; throws InputError if missing or not HDF5.
+Handle open_file_read(const std::string& path);
+/// Create a group (throws IoError); open a group (throws InputError naming `file`).
+Handle create_group(hid_t loc, const std::string& name);
+Handle open_group(hid_t loc, const std::string& name, const std::string& file);
+bool exists(hid_t loc, const std::string& path);
+
+// ---- attributes --------------------------------------------------------------------------
+void write_attr(hid_t obj, const std::string& name, const std::string& value);
+void write_attr(hid_t obj, const std::string& name, double value);
+void write_attr(hid_t obj, const std::string& name, std::int64_t value);
+void write_attr(hid_t obj, const std::string& name, const std::vector<double>& values);
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::int64_t>& values);
+std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file);
+double read_attr_double(hid_t obj, const std::string& name, const std::string& file);
+std::int64_t read_attr_int(hid_t obj, const std::string& name, const std::string& file);
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file);
+std::vector<std::int64_t> read_attr_ints(hid_t obj, const std::string& name, const std::string& file);
+bool has_attr(hid_t obj, const std::string& name);
+
+// ---- datasets ----------------------------------------------------------------------------
+/// Write `rows` x `cols` values (cols = 1 writes a 1-D dataset) with a `unit` attribute.
+void write_dataset(hid_t loc, const std::string& name, const double* data, std::size_t rows,
+                   std::size_t cols, const std::string& unit);
+void write_dataset(hid_t loc, const std::string& name, const std::uint64_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit);
+void write_dataset(hid_t loc, const std::string& name, const std::int32_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit);
+void write_dataset(hid_t loc, const std::string& name, const std::int64_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit);
+
+/// Read a float64 dataset of shape (rows) if cols == 1 or (rows, cols); `rows` = expected
+/// row count, or -1 to accept any. Throws InputError "file: /path: ..." on mismatch.
+std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows,
+                                 std::size_t cols, const std::string& file);
+std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows,
+                                    std::size_t cols, const std::string& file);
+std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows,
+                                   std::size_t cols, const std::string& file);
+std::vector<std::int64_t> read_i64(hid_t loc, const std::string& name, long long rows,
+                                   std::size_t cols, const std::string& file);
+/// Shape of a dataset (throws InputError if absent).
+std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string& file);
+/// The `unit` attribute of a dataset ("" if absent).
+std::string unit_of(hid_t loc, const std::string& name);
+
+/// Write provenance as attributes of group `/provenance`.
+void write_provenance(hid_t file, const Provenance& p);
+/// Read it back (fields absent in the file are left empty).
+Provenance read_provenance(hid_t file, const std::string& path);
+
+/// Silence HDF5's automatic error stack printing (errors become exceptions here).
+void quiet_errors();
+
+}  // namespace common::h5

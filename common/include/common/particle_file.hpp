@@ -1,0 +1,66 @@
+/// @file particle_file.hpp
+/// Particle snapshot file (written by mpm-frag, read by mpm2spheres): the pipeline's public
+/// interface, documented in common/FILE_FORMATS.md.
+///
+///   / attrs: format = "mpm-frag.particles", format_version, time [s], step
+///   /grid attrs: origin (3) [m], cell_size (3) [m], shape (3 node counts)
+///   /particles: id (uint64 N), position (N x 3, m), velocity (N x 3, m/s), mass (N, kg),
+///               volume (N, m^3), size (N x 3, undeformed particle-domain edges, m),
+///               material (int32 N), optional state datasets (damage, stress N x 6 Voigt
+///               xx,yy,zz,yz,xz,xy in Pa, distension, ...)
+///   /provenance attrs: tool, version, git_sha, command_line, scene
+/// Every dataset has a `unit` attribute. An XDMF sidecar (same stem, .xmf) is written beside it.
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "common/field.hpp"
+#include "common/provenance.hpp"
+
+namespace common {
+
+inline constexpr const char* kParticleFormat = "mpm-frag.particles";
+inline constexpr std::int64_t kParticleFormatVersion = 1;
+
+/// Uniform background grid: node (i,j,k) sits at origin + (i,j,k) * cell_size,
+/// 0 <= i < shape[0] etc.
+struct GridInfo {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d cell_size = Eigen::Vector3d::Ones();
+  Eigen::Vector3i shape = Eigen::Vector3i::Ones();
+};
+
+struct ParticleSnapshot {
+  double time = 0.0;
+  std::int64_t step = 0;
+  GridInfo grid;
+  std::vector<std::uint64_t> id;
+  std::vector<double> position;  ///< N*3
+  std::vector<double> velocity;  ///< N*3
+  std::vector<double> mass;      ///< N
+  std::vector<double> volume;    ///< N
+  std::vector<double> size;      ///< N*3
+  std::vector<std::int32_t> material;
+  std::vector<Field> fields;     ///< optional state datasets
+
+  std::size_t count() const { return id.size(); }
+  const Field* field(const std::string& name) const;
+};
+
+/// Hook to write extra groups into the same file before it is committed, or read them.
+using H5Hook = std::function<void(long long /*hid_t file*/)>;
+
+/// Write atomically (temp + rename) with the XDMF sidecar. Throws IoError; throws
+/// InputError if the snapshot is internally inconsistent (array sizes).
+void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
+                             const Provenance& prov, const H5Hook& extra = {});
+
+/// Read and validate: format tag, version (newer -> error), required datasets, shapes, dtypes,
+/// finite positions/velocities/masses, positive mass and volume. Throws InputError naming the
+/// file and dataset.
+ParticleSnapshot read_particle_snapshot(const std::string& path, const H5Hook& extra = {});
+
+}  // namespace common

@@ -1,0 +1,65 @@
+#include "common/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#include "common/status.hpp"
+
+namespace common {
+
+namespace {
+std::string make_temp_name(const std::string& final_path) {
+  namespace fs = std::filesystem;
+  const fs::path p(final_path);
+  std::string name(".");
+  name += p.filename().string();
+  name += ".tmp.";
+  name += std::to_string(::getpid());
+  return (p.parent_path() / name).string();
+}
+
+void fsync_path(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY);
+  if (fd < 0) throw IoError(path + ": cannot reopen for fsync: " + std::strerror(errno));
+  const int rc = ::fsync(fd);
+  const int err = errno;
+  ::close(fd);
+  if (rc != 0) throw IoError(path + ": fsync failed: " + std::strerror(err));
+}
+}  // namespace
+
+AtomicPath::AtomicPath(std::string final_path)
+    : final_(std::move(final_path)), temp_(make_temp_name(final_)) {
+  const auto dir = std::filesystem::path(final_).parent_path();
+  if (!dir.empty() && !std::filesystem::is_directory(dir))
+    throw IoError(final_ + ": output directory '" + dir.string() + "' does not exist");
+}
+
+AtomicPath::~AtomicPath() {
+  if (!committed_) std::remove(temp_.c_str());
+}
+
+void AtomicPath::commit() {
+  fsync_path(temp_);
+  if (std::rename(temp_.c_str(), final_.c_str()) != 0)
+    throw IoError(final_ + ": cannot rename temporary file into place: " + std::strerror(errno));
+  committed_ = true;
+}
+
+void write_text_atomic(const std::string& path, const std::string& text) {
+  AtomicPath out(path);
+  std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
+  if (!f) throw IoError(path + ": cannot create: " + std::strerror(errno));
+  const std::size_t n = std::fwrite(text.data(), 1, text.size(), f);
+  const bool ok = (n == text.size()) && std::fflush(f) == 0;
+  const int err = errno;
+  if (std::fclose(f) != 0 || !ok) throw IoError(path + ": write failed: " + std::strerror(err));
+  out.commit();
+}
+
+}  // namespace common

@@ -1,0 +1,75 @@
+#include "common/cli.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <iostream>
+
+#include "common/h5.hpp"
+#include "common/log.hpp"
+#include "common/status.hpp"
+
+namespace common {
+
+ToolApp::ToolApp(std::string tool, std::string description, Schema schema, bool scene_required)
+    : tool_(std::move(tool)), schema_(std::move(schema)), scene_required_(scene_required),
+      app_(std::move(description), tool_) {
+  app_.add_option("--scene,-s", scene_path_, "Scene file (TOML)")->check(CLI::ExistingFile);
+  app_.add_option("--set", sets_, "Override a scene value: key=value (TOML value), repeatable")
+      ->take_all()->allow_extra_args(false);
+  app_.add_flag("--help-params", help_params_, "Print every scene parameter (type, default, unit, range) and exit");
+  app_.add_flag("--print-scene", print_scene_, "Print the fully resolved scene and exit");
+  app_.add_flag("--version", version_, "Print version and git SHA and exit");
+  app_.add_flag("--quiet,-q", quiet_, "Only warnings and errors");
+  app_.add_flag("--verbose,-v", verbose_, "Debug output");
+}
+
+int ToolApp::run(int argc, char** argv, const Body& body) {
+  try {
+    app_.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app_.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << tool_ << ": error: " << e.what() << "\n(run " << tool_ << " --help for usage)\n";
+    return to_int(ExitCode::bad_input);
+  }
+  if (version_) {
+    std::cout << version_line(tool_) << "\n";
+    return 0;
+  }
+  if (help_params_) {
+    std::cout << schema_.help_text();
+    return 0;
+  }
+  setup_logging(quiet_, verbose_);
+  h5::quiet_errors();
+  try {
+    if (scene_path_.empty() && scene_required_ && !print_scene_) {
+      throw InputError("", "--scene", "a scene file is required (see --help-params for its keys)");
+    }
+    Scene scene = scene_path_.empty() ? Scene::parse(schema_, "", "<defaults>", sets_)
+                                      : Scene::load(schema_, scene_path_, sets_);
+    if (print_scene_) {
+      std::cout << scene.to_toml();
+      return 0;
+    }
+    const Provenance prov = make_provenance(tool_, argc, argv, scene.to_toml());
+    return body(scene, prov);
+  } catch (const InputError& e) {
+    spdlog::error("{}", e.what());
+    return to_int(ExitCode::bad_input);
+  } catch (const NumericalError& e) {
+    spdlog::error("numerical failure: {}", e.what());
+    if (!e.saved_state().empty()) spdlog::error("last good state saved to {}", e.saved_state());
+    return to_int(ExitCode::numerical);
+  } catch (const IoError& e) {
+    spdlog::error("I/O failure: {}", e.what());
+    return to_int(ExitCode::io_failure);
+  } catch (const std::exception& e) {
+    spdlog::critical("internal error (please report): {}", e.what());
+    return 1;
+  }
+}
+
+}  // namespace common

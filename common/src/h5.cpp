@@ -1,0 +1,319 @@
+#include "common/h5.hpp"
+
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+
+#include "common/status.hpp"
+
+namespace common::h5 {
+
+namespace {
+
+void check_io(herr_t rc, const std::string& what) {
+  if (rc < 0) throw IoError("HDF5: " + what + " failed (disk full or file not writable?)");
+}
+
+std::string shape_str(const std::vector<hsize_t>& d) {
+  std::ostringstream o;
+  o << "(";
+  for (std::size_t i = 0; i < d.size(); ++i) o << (i ? ", " : "") << d[i];
+  if (d.size() == 1) o << ",";
+  o << ")";
+  return o.str();
+}
+
+std::string expect_str(long long rows, std::size_t cols) {
+  std::string r = rows < 0 ? "N" : std::to_string(rows);
+  return cols == 1 ? "(" + r + ",)" : "(" + r + ", " + std::to_string(cols) + ")";
+}
+
+template <class T>
+void write_any(hid_t loc, const std::string& name, const T* data, std::size_t rows,
+               std::size_t cols, const std::string& unit, hid_t mem_type, hid_t file_type) {
+  hsize_t dims[2] = {rows, cols};
+  Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr));
+  if (!space.valid()) throw IoError("HDF5: cannot create dataspace for " + name);
+  Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  if (!ds.valid()) throw IoError("HDF5: cannot create dataset " + name);
+  if (rows * cols > 0) check_io(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing " + name);
+  write_attr(ds, "unit", unit);
+}
+
+enum class Kind { real, integer };
+
+template <class T>
+std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                        const std::string& file, hid_t mem_type, Kind kind) {
+  if (!exists(loc, name)) throw InputError(file, name, "required dataset is missing");
+  Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT));
+  if (!ds.valid()) throw InputError(file, name, "cannot open dataset (corrupt file?)");
+  Handle type(H5Dget_type(ds));
+  const H5T_class_t cls = H5Tget_class(type);
+  if (kind == Kind::real && !(cls == H5T_FLOAT && H5Tget_size(type) == 8))
+    throw InputError(file, name, "wrong dtype: expected float64");
+  if (kind == Kind::integer && cls != H5T_INTEGER)
+    throw InputError(file, name, "wrong dtype: expected an integer type");
+  Handle space(H5Dget_space(ds));
+  const int nd = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> d(nd > 0 ? nd : 0);
+  if (nd > 0) H5Sget_simple_extent_dims(space, d.data(), nullptr);
+  const bool shape_ok =
+      (cols == 1 ? (nd == 1 || (nd == 2 && d[1] == 1)) : (nd == 2 && d[1] == cols)) &&
+      (rows < 0 || (nd >= 1 && d[0] == static_cast<hsize_t>(rows)));
+  if (!shape_ok)
+    throw InputError(file, name, "wrong shape " + shape_str(d) + ", expected " + expect_str(rows, cols));
+  std::vector<T> out(nd >= 1 ? d[0] * cols : 0);
+  if (!out.empty() && H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
+    throw InputError(file, name, "cannot read dataset (truncated or corrupt file?)");
+  return out;
+}
+
+Handle open_attr(hid_t obj, const std::string& name, const std::string& file) {
+  if (H5Aexists(obj, name.c_str()) <= 0) throw InputError(file, name, "required attribute is missing");
+  Handle a(H5Aopen(obj, name.c_str(), H5P_DEFAULT));
+  if (!a.valid()) throw InputError(file, name, "cannot open attribute");
+  return a;
+}
+
+template <class T>
+std::vector<T> read_attr_vec(hid_t obj, const std::string& name, const std::string& file,
+                             hid_t mem_type, bool want_float) {
+  Handle a = open_attr(obj, name, file);
+  Handle type(H5Aget_type(a));
+  const H5T_class_t cls = H5Tget_class(type);
+  if (want_float ? (cls != H5T_FLOAT && cls != H5T_INTEGER) : cls != H5T_INTEGER)
+    throw InputError(file, name, want_float ? "attribute is not numeric" : "attribute is not an integer");
+  Handle space(H5Aget_space(a));
+  const hssize_t n = H5Sget_simple_extent_npoints(space);
+  std::vector<T> v(n > 0 ? n : 0);
+  if (!v.empty() && H5Aread(a, mem_type, v.data()) < 0) throw InputError(file, name, "cannot read attribute");
+  return v;
+}
+
+}  // namespace
+
+Handle::~Handle() {
+  if (id_ < 0) return;
+  switch (H5Iget_type(id_)) {
+    case H5I_FILE: H5Fclose(id_); break;
+    case H5I_GROUP: H5Gclose(id_); break;
+    case H5I_DATASET: H5Dclose(id_); break;
+    case H5I_DATASPACE: H5Sclose(id_); break;
+    case H5I_DATATYPE: H5Tclose(id_); break;
+    case H5I_ATTR: H5Aclose(id_); break;
+    case H5I_GENPROP_LST: H5Pclose(id_); break;
+    default: break;
+  }
+}
+
+Handle& Handle::operator=(Handle&& o) noexcept {
+  if (this != &o) {
+    Handle tmp(id_);
+    id_ = o.id_;
+    o.id_ = -1;
+  }
+  return *this;
+}
+
+void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+Handle create_file(const std::string& path) {
+  quiet_errors();
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  if (!f.valid()) throw IoError(path + ": cannot create HDF5 file");
+  return f;
+}
+
+Handle open_file_read(const std::string& path) {
+  quiet_errors();
+  if (!std::filesystem::exists(path)) throw InputError(path, "", "file does not exist");
+  if (std::filesystem::is_directory(path)) throw InputError(path, "", "is a directory, not an HDF5 file");
+  if (H5Fis_hdf5(path.c_str()) <= 0)
+    throw InputError(path, "", "not an HDF5 file (or truncated/corrupt)");
+  Handle f(H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT));
+  if (!f.valid()) throw InputError(path, "", "cannot open HDF5 file (truncated or corrupt?)");
+  return f;
+}
+
+Handle create_group(hid_t loc, const std::string& name) {
+  Handle g(H5Gcreate2(loc, name.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  if (!g.valid()) throw IoError("HDF5: cannot create group " + name);
+  return g;
+}
+
+Handle open_group(hid_t loc, const std::string& name, const std::string& file) {
+  if (!exists(loc, name)) throw InputError(file, name, "required group is missing");
+  Handle g(H5Gopen2(loc, name.c_str(), H5P_DEFAULT));
+  if (!g.valid()) throw InputError(file, name, "cannot open group (corrupt file?)");
+  return g;
+}
+
+bool exists(hid_t loc, const std::string& path) {
+  // Check each component so that a missing intermediate group is not an HDF5 error.
+  std::string partial;
+  std::size_t start = (!path.empty() && path[0] == '/') ? 1 : 0;
+  if (start) partial = "/";
+  while (start <= path.size()) {
+    std::size_t end = path.find('/', start);
+    if (end == std::string::npos) end = path.size();
+    partial += path.substr(start, end - start);
+    if (H5Lexists(loc, partial.c_str(), H5P_DEFAULT) <= 0) return false;
+    if (end == path.size()) break;
+    partial += "/";
+    start = end + 1;
+  }
+  return true;
+}
+
+void write_attr(hid_t obj, const std::string& name, const std::string& value) {
+  Handle type(H5Tcopy(H5T_C_S1));
+  H5Tset_size(type, H5T_VARIABLE);
+  H5Tset_cset(type, H5T_CSET_UTF8);
+  Handle space(H5Screate(H5S_SCALAR));
+  Handle a(H5Acreate2(obj, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT));
+  if (!a.valid()) throw IoError("HDF5: cannot create attribute " + name);
+  const char* p = value.c_str();
+  check_io(H5Awrite(a, type, &p), "writing attribute " + name);
+}
+
+void write_attr(hid_t obj, const std::string& name, double value) {
+  write_attr(obj, name, std::vector<double>{value});
+}
+void write_attr(hid_t obj, const std::string& name, std::int64_t value) {
+  write_attr(obj, name, std::vector<std::int64_t>{value});
+}
+
+void write_attr(hid_t obj, const std::string& name, const std::vector<double>& values) {
+  hsize_t n = values.size();
+  Handle space(n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr));
+  Handle a(H5Acreate2(obj, name.c_str(), H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT));
+  if (!a.valid()) throw IoError("HDF5: cannot create attribute " + name);
+  check_io(H5Awrite(a, H5T_NATIVE_DOUBLE, values.data()), "writing attribute " + name);
+}
+
+void write_attr(hid_t obj, const std::string& name, const std::vector<std::int64_t>& values) {
+  hsize_t n = values.size();
+  Handle space(n == 1 ? H5Screate(H5S_SCALAR) : H5Screate_simple(1, &n, nullptr));
+  Handle a(H5Acreate2(obj, name.c_str(), H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT));
+  if (!a.valid()) throw IoError("HDF5: cannot create attribute " + name);
+  check_io(H5Awrite(a, H5T_NATIVE_INT64, values.data()), "writing attribute " + name);
+}
+
+bool has_attr(hid_t obj, const std::string& name) { return H5Aexists(obj, name.c_str()) > 0; }
+
+std::string read_attr_string(hid_t obj, const std::string& name, const std::string& file) {
+  Handle a = open_attr(obj, name, file);
+  Handle type(H5Aget_type(a));
+  if (H5Tget_class(type) != H5T_STRING) throw InputError(file, name, "attribute is not a string");
+  Handle space(H5Aget_space(a));
+  if (H5Sget_simple_extent_npoints(space) != 1) throw InputError(file, name, "attribute is not a scalar string");
+  if (H5Tis_variable_str(type) > 0) {
+    Handle mem(H5Tcopy(H5T_C_S1));
+    H5Tset_size(mem, H5T_VARIABLE);
+    H5Tset_cset(mem, H5Tget_cset(type));
+    char* p = nullptr;
+    if (H5Aread(a, mem, &p) < 0) throw InputError(file, name, "cannot read attribute");
+    std::string s = p ? p : "";
+    H5free_memory(p);
+    return s;
+  }
+  const std::size_t n = H5Tget_size(type);
+  std::string s(n, '\0');
+  if (H5Aread(a, type, s.data()) < 0) throw InputError(file, name, "cannot read attribute");
+  s.resize(std::strlen(s.c_str()));
+  return s;
+}
+
+double read_attr_double(hid_t obj, const std::string& name, const std::string& file) {
+  auto v = read_attr_vec<double>(obj, name, file, H5T_NATIVE_DOUBLE, true);
+  if (v.size() != 1) throw InputError(file, name, "expected a scalar attribute");
+  return v[0];
+}
+std::int64_t read_attr_int(hid_t obj, const std::string& name, const std::string& file) {
+  auto v = read_attr_vec<std::int64_t>(obj, name, file, H5T_NATIVE_INT64, false);
+  if (v.size() != 1) throw InputError(file, name, "expected a scalar integer attribute");
+  return v[0];
+}
+std::vector<double> read_attr_doubles(hid_t obj, const std::string& name, const std::string& file) {
+  return read_attr_vec<double>(obj, name, file, H5T_NATIVE_DOUBLE, true);
+}
+std::vector<std::int64_t> read_attr_ints(hid_t obj, const std::string& name, const std::string& file) {
+  return read_attr_vec<std::int64_t>(obj, name, file, H5T_NATIVE_INT64, false);
+}
+
+void write_dataset(hid_t loc, const std::string& name, const double* data, std::size_t rows,
+                   std::size_t cols, const std::string& unit) {
+  write_any(loc, name, data, rows, cols, unit, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::uint64_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit) {
+  write_any(loc, name, data, rows, cols, unit, H5T_NATIVE_UINT64, H5T_STD_U64LE);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::int32_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit) {
+  write_any(loc, name, data, rows, cols, unit, H5T_NATIVE_INT32, H5T_STD_I32LE);
+}
+void write_dataset(hid_t loc, const std::string& name, const std::int64_t* data,
+                   std::size_t rows, std::size_t cols, const std::string& unit) {
+  write_any(loc, name, data, rows, cols, unit, H5T_NATIVE_INT64, H5T_STD_I64LE);
+}
+
+std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows,
+                                 std::size_t cols, const std::string& file) {
+  return read_any<double>(loc, name, rows, cols, file, H5T_NATIVE_DOUBLE, Kind::real);
+}
+std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows,
+                                    std::size_t cols, const std::string& file) {
+  return read_any<std::uint64_t>(loc, name, rows, cols, file, H5T_NATIVE_UINT64, Kind::integer);
+}
+std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows,
+                                   std::size_t cols, const std::string& file) {
+  return read_any<std::int32_t>(loc, name, rows, cols, file, H5T_NATIVE_INT32, Kind::integer);
+}
+std::vector<std::int64_t> read_i64(hid_t loc, const std::string& name, long long rows,
+                                   std::size_t cols, const std::string& file) {
+  return read_any<std::int64_t>(loc, name, rows, cols, file, H5T_NATIVE_INT64, Kind::integer);
+}
+
+std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string& file) {
+  if (!exists(loc, name)) throw InputError(file, name, "dataset is missing");
+  Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT));
+  if (!ds.valid()) throw InputError(file, name, "cannot open dataset");
+  Handle space(H5Dget_space(ds));
+  const int nd = H5Sget_simple_extent_ndims(space);
+  std::vector<hsize_t> d(nd > 0 ? nd : 0);
+  if (nd > 0) H5Sget_simple_extent_dims(space, d.data(), nullptr);
+  return d;
+}
+
+std::string unit_of(hid_t loc, const std::string& name) {
+  if (!exists(loc, name)) return {};
+  Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT));
+  if (!ds.valid() || !has_attr(ds, "unit")) return {};
+  return read_attr_string(ds, "unit", "");
+}
+
+void write_provenance(hid_t file, const Provenance& p) {
+  Handle g = create_group(file, "provenance");
+  write_attr(g, "tool", p.tool);
+  write_attr(g, "version", p.version);
+  write_attr(g, "git_sha", p.git_sha);
+  write_attr(g, "command_line", p.command_line);
+  write_attr(g, "scene", p.scene_toml);
+}
+
+Provenance read_provenance(hid_t file, const std::string& path) {
+  Provenance p;
+  if (!exists(file, "provenance")) return p;
+  Handle g = open_group(file, "provenance", path);
+  auto get = [&](const char* k) { return has_attr(g, k) ? read_attr_string(g, k, path) : std::string(); };
+  p.tool = get("tool");
+  p.version = get("version");
+  p.git_sha = get("git_sha");
+  p.command_line = get("command_line");
+  p.scene_toml = get("scene");
+  return p;
+}
+
+}  // namespace common::h5

@@ -1,0 +1,84 @@
+// Internal: shared machinery for the two item-file kinds (particles, spheres).
+#pragma once
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "common/field.hpp"
+#include "common/h5.hpp"
+#include "common/status.hpp"
+#include "common/xdmf.hpp"
+
+namespace common::detail {
+
+/// Check `n*ncomp` sizes (writer side; a mismatch is a caller bug reported as InputError).
+inline void check_size(const char* what, std::size_t got, std::size_t n, std::size_t ncomp) {
+  if (got != n * ncomp)
+    throw InputError("", what, "array has " + std::to_string(got) + " values, expected " +
+                                   std::to_string(n * ncomp));
+}
+
+/// Reader side: all values finite (and > 0 if `positive`), else InputError naming the row.
+inline void check_values(const std::string& file, const std::string& path,
+                         const std::vector<double>& v, std::size_t ncomp, bool positive) {
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    if (!std::isfinite(v[i]))
+      throw InputError(file, path, "non-finite value (NaN or Inf) at row " + std::to_string(i / ncomp));
+    if (positive && !(v[i] > 0.0))
+      throw InputError(file, path, "non-positive value " + std::to_string(v[i]) + " at row " +
+                                       std::to_string(i / ncomp) + " (must be > 0)");
+  }
+}
+
+/// Root attributes and format check shared by both kinds.
+inline void write_header(hid_t f, const char* format, std::int64_t version, double time, std::int64_t step) {
+  h5::write_attr(f, "format", std::string(format));
+  h5::write_attr(f, "format_version", version);
+  h5::write_attr(f, "time", time);
+  h5::write_attr(f, "step", step);
+}
+
+inline void read_header(hid_t f, const std::string& file, const char* format, std::int64_t version,
+                        double& time, std::int64_t& step) {
+  if (!h5::has_attr(f, "format"))
+    throw InputError(file, "/format", std::string("attribute missing: not a '") + format + "' file");
+  const std::string got = h5::read_attr_string(f, "format", file);
+  if (got != format)
+    throw InputError(file, "/format", "unknown format '" + got + "', expected '" + format + "'");
+  const std::int64_t v = h5::read_attr_int(f, "format_version", file);
+  if (v > version)
+    throw InputError(file, "/format_version", "version " + std::to_string(v) +
+                                                  " is newer than this tool reads (" + std::to_string(version) +
+                                                  "); update the tool");
+  if (v < 1) throw InputError(file, "/format_version", "invalid version " + std::to_string(v));
+  time = h5::read_attr_double(f, "time", file);
+  step = h5::read_attr_int(f, "step", file);
+  if (!std::isfinite(time)) throw InputError(file, "/time", "non-finite time");
+}
+
+inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t n) {
+  for (const auto& fl : fields) {
+    check_size(fl.name.c_str(), fl.values.size(), n, fl.ncomp);
+    h5::write_dataset(g, fl.name, fl.values.data(), n, fl.ncomp, fl.unit);
+    if (!fl.description.empty()) {
+      h5::Handle ds(H5Dopen2(g, fl.name.c_str(), H5P_DEFAULT));
+      h5::write_attr(ds, "description", fl.description);
+    }
+  }
+}
+
+/// Read every float64 dataset of `g` not in `skip` as an optional field.
+std::vector<Field> read_fields(hid_t g, const std::string& group, const std::string& file,
+                               std::size_t n, const std::vector<std::string>& skip);
+
+inline std::vector<XdmfAttribute> field_attributes(const std::string& group, const std::vector<Field>& fields) {
+  std::vector<XdmfAttribute> a;
+  for (const auto& f : fields) a.push_back({f.name, group + "/" + f.name, f.ncomp, "Float", 8});
+  return a;
+}
+
+inline std::string basename(const std::string& path) {
+  return std::filesystem::path(path).filename().string();
+}
+
+}  // namespace common::detail

@@ -1,0 +1,464 @@
+// Scene: TOML parsing (toml++), --set overrides, validation against a Schema, accessors.
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "common/schema.hpp"
+#include "common/status.hpp"
+
+namespace common {
+
+class SceneData {
+ public:
+  toml::table table;
+  std::shared_ptr<const Schema> schema;  // element or root schema (without styles)
+  std::vector<const Schema*> active;     // schema + active style schemas
+  std::string source;
+  std::string prefix;                    // "body[1]." for elements
+  std::set<std::string> given;
+  std::map<std::string, std::set<std::string>> element_given;  // by element prefix
+
+  const ParamSpec* find(const std::string& key) const {
+    for (const Schema* s : active)
+      if (const ParamSpec* p = s->find(key)) return p;
+    return nullptr;
+  }
+  const TableArraySpec* find_array(const std::string& key) const {
+    for (const Schema* s : active)
+      if (const TableArraySpec* a = s->find_array(key)) return a;
+    return nullptr;
+  }
+};
+
+namespace {
+
+std::vector<std::string> split_dots(const std::string& key) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  while (true) {
+    const auto dot = key.find('.', start);
+    parts.push_back(key.substr(start, dot - start));
+    if (dot == std::string::npos) break;
+    start = dot + 1;
+  }
+  return parts;
+}
+
+const toml::node* lookup(const toml::table& t, const std::string& key) {
+  const toml::table* cur = &t;
+  const auto parts = split_dots(key);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    const toml::node* n = cur->get(parts[i]);
+    if (!n) return nullptr;
+    if (i + 1 == parts.size()) return n;
+    cur = n->as_table();
+    if (!cur) return nullptr;
+  }
+  return nullptr;
+}
+
+toml::table& table_for(toml::table& t, const std::string& key, std::string& leaf) {
+  toml::table* cur = &t;
+  const auto parts = split_dots(key);
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = cur->get(parts[i]);
+    if (!n) {
+      cur->insert_or_assign(parts[i], toml::table{});
+      n = cur->get(parts[i]);
+    }
+    cur = n->as_table();
+    if (!cur) throw InputError("", key, "'" + parts[i] + "' must be a table");
+  }
+  leaf = parts.back();
+  return *cur;
+}
+
+std::string num(double x) {
+  std::ostringstream o;
+  o.precision(10);
+  o << x;
+  return o.str();
+}
+
+std::string range_text(const ParamSpec& p) {
+  std::string r(p.min_exclusive ? "(" : "[");
+  r += num(p.min);
+  r += ", ";
+  r += num(p.max);
+  r += "]";
+  if (!p.unit.empty() && p.unit != "1") r += " " + p.unit;
+  return r;
+}
+
+std::string node_text(const toml::node& n) {
+  std::ostringstream o;
+  if (auto s = n.as_string()) o << '"' << s->get() << '"';
+  else if (n.is_table()) o << "a table";
+  else if (n.is_array()) o << "an array";
+  else n.visit([&](const auto& v) { o << v; });
+  return o.str();
+}
+
+bool in_range(const ParamSpec& p, double x) {
+  if (!std::isfinite(x)) return false;
+  if (p.min_exclusive ? !(x > p.min) : !(x >= p.min)) return false;
+  return x <= p.max;
+}
+
+std::optional<double> as_number(const toml::node& n) {
+  if (auto f = n.as_floating_point()) return f->get();
+  if (auto i = n.as_integer()) return static_cast<double>(i->get());
+  return std::nullopt;
+}
+
+/// Check one present value; returns a normalised node to store.
+void check_value(const ParamSpec& p, toml::table& parent, const std::string& leaf, const std::string& src,
+                 const std::string& where) {
+  const toml::node& n = *parent.get(leaf);
+  auto fail = [&](const std::string& what) { throw InputError(src, where, what + ", got " + node_text(n)); };
+  switch (p.type) {
+    case ParamType::boolean:
+      if (!n.is_boolean()) fail("expected true or false");
+      break;
+    case ParamType::integer: {
+      if (!n.is_integer()) fail("expected an integer in " + range_text(p));
+      if (!in_range(p, static_cast<double>(n.as_integer()->get()))) fail("out of range: allowed " + range_text(p));
+      break;
+    }
+    case ParamType::real: {
+      auto x = as_number(n);
+      if (!x) fail("expected a number in " + range_text(p));
+      if (!in_range(p, *x)) fail("out of range: allowed " + range_text(p));
+      parent.insert_or_assign(leaf, *x);  // normalise integers to floating point
+      break;
+    }
+    case ParamType::string:
+      if (!n.is_string()) fail("expected a string");
+      break;
+    case ParamType::choice: {
+      std::string list;
+      for (const auto& c : p.choices) list += (list.empty() ? "" : ", ") + ("\"" + c + "\"");
+      if (!n.is_string()) fail("expected one of " + list);
+      const std::string v = n.as_string()->get();
+      if (std::find(p.choices.begin(), p.choices.end(), v) == p.choices.end()) fail("expected one of " + list);
+      break;
+    }
+    case ParamType::vec3:
+    case ParamType::real_list: {
+      const toml::array* a = n.as_array();
+      const bool v3 = p.type == ParamType::vec3;
+      const std::string what = v3 ? "expected an array of 3 numbers, each in " + range_text(p)
+                                  : "expected an array of numbers, each in " + range_text(p);
+      if (!a || (v3 && a->size() != 3)) fail(what);
+      toml::array norm;
+      for (const auto& e : *a) {
+        auto x = as_number(e);
+        if (!x || !in_range(p, *x)) fail(what);
+        norm.push_back(*x);
+      }
+      parent.insert_or_assign(leaf, std::move(norm));
+      break;
+    }
+  }
+}
+
+void insert_default(toml::table& parent, const std::string& leaf, const ParamValue& v) {
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, Eigen::Vector3d>) {
+          parent.insert_or_assign(leaf, toml::array{x[0], x[1], x[2]});
+        } else if constexpr (std::is_same_v<T, std::vector<double>>) {
+          toml::array a;
+          for (double d : x) a.push_back(d);
+          parent.insert_or_assign(leaf, std::move(a));
+        } else if constexpr (std::is_same_v<T, long long>) {
+          parent.insert_or_assign(leaf, static_cast<int64_t>(x));
+        } else {
+          parent.insert_or_assign(leaf, x);
+        }
+      },
+      v);
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] == b[j - 1] ? 0 : 1)});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+void validate(SceneData& d);
+
+/// Walk the table and reject keys the (active) schema does not declare.
+void reject_unknown(const SceneData& d, const toml::table& t, const std::string& path,
+                    const std::vector<std::string>& declared) {
+  for (const auto& [k, node] : t) {
+    const std::string key = path.empty() ? std::string(k.str()) : path + "." + std::string(k.str());
+    if (d.find(key) || d.find_array(key)) continue;
+    const bool is_prefix = std::any_of(declared.begin(), declared.end(),
+                                       [&](const std::string& s) { return s.rfind(key + ".", 0) == 0; });
+    if (is_prefix && node.is_table()) {
+      reject_unknown(d, *node.as_table(), key, declared);
+      continue;
+    }
+    std::string best;
+    std::size_t best_d = 4;
+    for (const auto& s : declared) {
+      const std::size_t e = edit_distance(s, key);
+      if (e < best_d) best_d = e, best = s;
+    }
+    std::string msg = "unknown key";
+    if (!best.empty()) msg += " (did you mean '" + d.prefix + best + "'?)";
+    msg += "; run with --help-params for the valid keys";
+    throw InputError(d.source, d.prefix + key, msg);
+  }
+}
+
+void validate(SceneData& d) {
+  d.active = {d.schema.get()};
+  // Resolve style switches first: their choice decides which extra keys are valid.
+  for (const auto& sw : d.schema->style_switches()) {
+    const ParamSpec* p = d.schema->find(sw.key);
+    std::string leaf;
+    toml::table& parent = table_for(d.table, sw.key, leaf);
+    if (parent.get(leaf)) {
+      check_value(*p, parent, leaf, d.source, d.prefix + sw.key);
+    } else if (!p->default_value) {
+      throw InputError(d.source, d.prefix + sw.key, "required key is missing");
+    }
+    const toml::node* n = lookup(d.table, sw.key);
+    const std::string style = n ? n->as_string()->get() : std::get<std::string>(*p->default_value);
+    auto it = sw.styles.find(style);
+    if (it != sw.styles.end()) d.active.push_back(&it->second);
+  }
+  std::vector<std::string> declared;
+  for (const Schema* s : d.active) {
+    for (const auto& p : s->params()) declared.push_back(p.key);
+    for (const auto& a : s->table_arrays()) declared.push_back(a.key);
+  }
+  reject_unknown(d, d.table, "", declared);
+  for (const Schema* s : d.active) {
+    for (const auto& p : s->params()) {
+      std::string leaf;
+      toml::table& parent = table_for(d.table, p.key, leaf);
+      if (parent.get(leaf)) {
+        check_value(p, parent, leaf, d.source, d.prefix + p.key);
+        d.given.insert(p.key);
+      } else if (p.default_value) {
+        insert_default(parent, leaf, *p.default_value);
+      } else {
+        throw InputError(d.source, d.prefix + p.key, "required key is missing (" + p.help + ")");
+      }
+    }
+    for (const auto& a : s->table_arrays()) {
+      std::string leaf;
+      toml::table& parent = table_for(d.table, a.key, leaf);
+      toml::node* n = parent.get(leaf);
+      std::size_t count = 0;
+      if (n) {
+        toml::array* arr = n->as_array();
+        if (!arr || !arr->is_array_of_tables())
+          throw InputError(d.source, d.prefix + a.key, "expected an array of tables ([[" + a.key + "]])");
+        count = arr->size();
+        for (std::size_t i = 0; i < arr->size(); ++i) {
+          SceneData e;
+          e.table = *(*arr)[i].as_table();
+          e.schema = a.element;
+          e.source = d.source;
+          e.prefix = d.prefix + a.key + "[" + std::to_string(i) + "].";
+          validate(e);
+          d.element_given[e.prefix] = e.given;
+          d.element_given.merge(e.element_given);
+          (*arr)[i].as_table()->clear();
+          *(*arr)[i].as_table() = std::move(e.table);
+        }
+        d.given.insert(a.key);
+      } else {
+        parent.insert_or_assign(leaf, toml::array{});
+      }
+      if (count < a.min_count || count > a.max_count)
+        throw InputError(d.source, d.prefix + a.key,
+                         "needs between " + std::to_string(a.min_count) + " and " +
+                             (a.max_count == std::numeric_limits<std::size_t>::max() ? std::string("any number of")
+                                                                                    : std::to_string(a.max_count)) +
+                             " [[" + a.key + "]] entries, got " + std::to_string(count));
+    }
+  }
+}
+
+/// Apply "key=value" (key may contain name[i] components) to the raw table.
+void apply_override(toml::table& root, const std::string& ov) {
+  const auto eq = ov.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError("--set", ov, "expected key=value (e.g. --set time.end=1e-3)");
+  const std::string key = ov.substr(0, eq);
+  const std::string text = ov.substr(eq + 1);
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + text);
+  } catch (const toml::parse_error&) {
+    parsed.insert_or_assign("v", text);  // bare words are taken as strings
+  }
+  toml::table* cur = &root;
+  const auto parts = split_dots(key);
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    std::string name = parts[i];
+    long idx = -1;
+    const auto br = name.find('[');
+    if (br != std::string::npos) {
+      if (name.back() != ']') throw InputError("--set", key, "malformed index (use name[i])");
+      try {
+        idx = std::stol(name.substr(br + 1, name.size() - br - 2));
+      } catch (...) {
+        throw InputError("--set", key, "malformed index (use name[i])");
+      }
+      name = name.substr(0, br);
+    }
+    const bool last = i + 1 == parts.size();
+    if (idx < 0) {
+      if (last) {
+        cur->insert_or_assign(name, *parsed.get("v"));
+        return;
+      }
+      if (!cur->get(name)) cur->insert_or_assign(name, toml::table{});
+      cur = cur->get(name)->as_table();
+      if (!cur) throw InputError("--set", key, "'" + name + "' is not a table");
+    } else {
+      if (last) throw InputError("--set", key, "cannot replace a whole table; set one of its keys");
+      if (!cur->get(name)) cur->insert_or_assign(name, toml::array{});
+      toml::array* arr = cur->get(name)->as_array();
+      if (!arr) throw InputError("--set", key, "'" + name + "' is not an array of tables");
+      if (idx > static_cast<long>(arr->size()))
+        throw InputError("--set", key, "index " + std::to_string(idx) + " out of range (have " +
+                                           std::to_string(arr->size()) + " entries; use index " +
+                                           std::to_string(arr->size()) + " to append one)");
+      if (idx == static_cast<long>(arr->size())) arr->push_back(toml::table{});
+      cur = (*arr)[idx].as_table();
+      if (!cur) throw InputError("--set", key, "'" + name + "' is not an array of tables");
+    }
+  }
+}
+
+template <class F>
+auto get_checked(const SceneData& d, const std::string& key, ParamType want, F&& convert) {
+  const ParamSpec* p = d.find(key);
+  if (!p) throw InputError(d.source, d.prefix + key, "not a key of this scene's schema (internal error)");
+  const bool ok = p->type == want || (want == ParamType::string && p->type == ParamType::choice);
+  if (!ok) throw InputError(d.source, d.prefix + key, "accessed with the wrong type (internal error)");
+  const toml::node* n = lookup(d.table, key);
+  if (!n) throw InputError(d.source, d.prefix + key, "missing after validation (internal error)");
+  return convert(*n);
+}
+
+}  // namespace
+
+Scene::Scene() : d_(std::make_unique<SceneData>()) {}
+Scene::~Scene() = default;
+Scene::Scene(const Scene& o) : d_(std::make_unique<SceneData>(*o.d_)) {
+  // `active` points into schema-owned memory shared by copies: still valid.
+}
+Scene& Scene::operator=(const Scene& o) {
+  if (this != &o) d_ = std::make_unique<SceneData>(*o.d_);
+  return *this;
+}
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+Scene Scene::parse(const Schema& schema, const std::string& toml_text, const std::string& source_name,
+                   const std::vector<std::string>& overrides) {
+  Scene s;
+  s.d_->source = source_name;
+  s.d_->schema = std::make_shared<Schema>(schema);
+  try {
+    s.d_->table = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream o;
+    o << "TOML syntax error at line " << e.source().begin.line << ", column " << e.source().begin.column
+      << ": " << e.description();
+    throw InputError(source_name, "", o.str());
+  }
+  for (const auto& ov : overrides) apply_override(s.d_->table, ov);
+  validate(*s.d_);
+  return s;
+}
+
+Scene Scene::load(const Schema& schema, const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, "", "cannot open scene file");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return parse(schema, text.str(), path, overrides);
+}
+
+double Scene::real(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::real, [](const toml::node& n) { return *as_number(n); });
+}
+long long Scene::integer(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::integer, [](const toml::node& n) { return static_cast<long long>(n.as_integer()->get()); });
+}
+bool Scene::boolean(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::boolean, [](const toml::node& n) { return n.as_boolean()->get(); });
+}
+std::string Scene::string(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::string, [](const toml::node& n) { return n.as_string()->get(); });
+}
+Eigen::Vector3d Scene::vec3(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::vec3, [](const toml::node& n) {
+    const toml::array& a = *n.as_array();
+    return Eigen::Vector3d(*as_number(a[0]), *as_number(a[1]), *as_number(a[2]));
+  });
+}
+std::vector<double> Scene::real_list(const std::string& key) const {
+  return get_checked(*d_, key, ParamType::real_list, [](const toml::node& n) {
+    std::vector<double> v;
+    for (const auto& e : *n.as_array()) v.push_back(*as_number(e));
+    return v;
+  });
+}
+bool Scene::given(const std::string& key) const { return d_->given.count(key) > 0; }
+bool Scene::has(const std::string& key) const { return d_->find(key) != nullptr; }
+
+std::size_t Scene::count(const std::string& key) const {
+  if (!d_->find_array(key)) throw InputError(d_->source, d_->prefix + key, "not a table array of this schema (internal error)");
+  const toml::node* n = lookup(d_->table, key);
+  return n && n->as_array() ? n->as_array()->size() : 0;
+}
+
+Scene Scene::element(const std::string& key, std::size_t i) const {
+  const TableArraySpec* a = d_->find_array(key);
+  if (!a) throw InputError(d_->source, d_->prefix + key, "not a table array of this schema (internal error)");
+  const toml::node* n = lookup(d_->table, key);
+  if (!n || !n->as_array() || i >= n->as_array()->size())
+    throw InputError(d_->source, d_->prefix + key, "index " + std::to_string(i) + " out of range (internal error)");
+  Scene e;
+  e.d_->table = *(*n->as_array())[i].as_table();
+  e.d_->schema = a->element;
+  e.d_->source = d_->source;
+  e.d_->prefix = d_->prefix + key + "[" + std::to_string(i) + "].";
+  validate(*e.d_);  // already valid: re-resolves the active styles
+  e.d_->element_given = d_->element_given;
+  e.d_->given = d_->element_given[e.d_->prefix];
+  return e;
+}
+
+std::string Scene::to_toml() const {
+  std::ostringstream o;
+  o << d_->table << "\n";
+  return o.str();
+}
+
+const std::string& Scene::source() const { return d_->source; }
+std::string Scene::where(const std::string& key) const { return d_->source + ": " + d_->prefix + key; }
+
+}  // namespace common
