@@ -1,0 +1,86 @@
+/// @file params.hpp
+/// Parameters of the Tonge–Ramesh brittle-damage model (Tonge & Ramesh 2016, JMPS 86:117, as
+/// implemented in Uintah's "portable Tonge–Ramesh", PTR) in the variant of El Mir, Ramesh &
+/// Richardson (2019, Icarus 321:1013): Tillotson EOS, two bounded-Pareto flaw populations.
+/// Parameter names follow the PTR list (ARL-SR-0344, Tonge 2015) mapped to SI values; the basalt
+/// preset is El Mir et al. (2019) Table 1 plus the documented assumptions in params.cpp.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace mpmfrag::tonge_ramesh {
+
+/// One bounded-Pareto flaw population, pdf g(s) ∝ s^(-a-1) on [s_min, s_max].
+struct FlawPopulation {
+  double s_min = 5e-6;     ///< smallest flaw half-size [m]
+  double s_max = 1e-3;     ///< largest flaw half-size [m]
+  double exponent = 3.0;   ///< Pareto exponent a [-]
+  double density = 2e12;   ///< total flaw number density eta over [s_min, s_max] [1/m^3]
+  int bins = 25;           ///< number of size bins
+  double bin_bias = -3.0;  ///< bin spacing: 1 uniform, b>0 power, b<0 rational (PTR method 7)
+};
+
+/// Cold/compressed Tillotson constants (Tillotson 1962; Benz & Asphaug 1999 basalt values).
+struct TillotsonCold {
+  double A = 26.7e9;   ///< [Pa]
+  double B = 26.7e9;   ///< [Pa]
+  double a = 0.5;      ///< [-]
+  double b = 1.5;      ///< [-]
+  double E0 = 4.87e8;  ///< [J/kg]
+};
+
+/// All model parameters (SI).
+struct Params {
+  double rho0 = 2700.0;        ///< reference solid density [kg/m^3]
+  double G0 = 22.7e9;          ///< undamaged shear modulus [Pa]
+  TillotsonCold eos;           ///< matrix EOS; K0 = eos.A
+  bool use_damage = true;      ///< micromechanical wing-crack damage
+  bool use_granular = true;    ///< granular (Drucker–Prager) flow + P–alpha compaction
+  // micromechanics
+  std::vector<FlawPopulation> populations;  ///< concatenated into one bin list
+  double KIc = 1.6e6;           ///< mode-I fracture toughness [Pa m^0.5]
+  double flaw_friction = 0.2;   ///< crack-face friction mu [-]
+  double flaw_angle = -1.0;     ///< phi [rad]; <0 means pi/2 - atan(1/mu)/2
+  double growth_exponent = 1.0; ///< gamma_c [-]
+  double growth_alpha = 5.0;    ///< alpha_c: v_max = C_R / alpha_c [-]
+  double critical_damage = 0.125;  ///< D_c: granular flow on [-]
+  double max_damage = 0.2;         ///< D_max: damage frozen [-]
+  double max_damage_inc = 1e-4;    ///< Delta D per damage sub-step [-]
+  int max_substeps = 2000;         ///< cap on damage sub-steps per step (cost guard)
+  bool inc_init_damage = true;     ///< D = sum w (s+l)^3 (true) or sum w l^3
+  bool friction_in_tension = false;  ///< PTR QUIRK 7.3 (true reproduces PTR)
+  // granular flow (cone, PTR yield type 1) and P–alpha
+  double dp_slope = 0.6;        ///< A_DP [-]
+  double dp_cohesion = 0.3e6;   ///< B_DP [Pa]
+  double gp_time_const = 0.0;   ///< Duvaut–Lions relaxation time (0 = rate independent) [s]
+  double j_loc = 5.0;           ///< J_GP above which the point is flagged localized [-]
+  double pa_Pe = 75e6;          ///< P–alpha P_e ("P0") [Pa]
+  double pa_alpha_e = 1.25;     ///< P–alpha alpha_e ("alpha0") [-]
+  double pa_Pc = 200e6;         ///< P–alpha full-compaction pressure P_c [Pa]
+  std::uint64_t seed = 0;       ///< user part of the flaw-sampling seed
+
+  /// Total bin count over all populations.
+  int total_bins() const {
+    int n = 0;
+    for (const auto& p : populations) n += p.bins;
+    return n;
+  }
+  /// Throws common::InputError on inconsistent values.
+  void validate() const;
+};
+
+/// Quantities derived once from Params.
+struct Derived {
+  double K0 = 0, nu0 = 0, E0 = 0;      ///< reference bulk/Poisson/Young
+  double kK = 0, kG = 0;               ///< K/K0 = 1/(1+kK D), G/G0 = 1/(1+kG D)
+  double cs = 0, cR = 0, v_max = 0;    ///< shear, Rayleigh, limiting crack speed [m/s]
+  double sin_phi = 0, cos_phi = 0, sin2phi = 0;
+  double pa_kappa = 0;                 ///< (P_c-P_e)/(2 P_e (alpha_e-1))
+  explicit Derived(const Params& p);
+};
+
+/// El Mir, Ramesh & Richardson (2019) Table 1 basalt, two flaw populations, 25 bins each.
+Params basalt_el_mir();
+
+}  // namespace mpmfrag::tonge_ramesh

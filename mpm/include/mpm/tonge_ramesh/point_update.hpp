@@ -1,0 +1,72 @@
+/// @file point_update.hpp
+/// One constitutive update of the Tonge–Ramesh model at a material point, in the order of PTR
+/// `advanceTimeSigmaL` (Tonge 2015, ARL-SR-0344 §4; tonge-ramesh spec §10):
+///  0. Hughes–Winget rotation of sigma_n with W = skew(L); d = sym(L).
+///  1. J_EL = J_{n+1}/J_GP,n.
+///  2. be_n = J_n dev(sigma_n)/G(D_n) + I_el,n I.
+///  3. Trial be_tr = fbar be_n fbar^T, V = I + d dt + (d dt)^2/2, fbar = V/det(V)^(1/3).
+///  5. Damage: trial full step with the end-of-step Cauchy trial stress
+///     sigma = (G(D_n) dev(be_tr) + p_K(J_EL, D_n) I)/J; if Delta D > MaxDamageInc and the point is
+///     not localized, M = ceil(Delta D/MaxDamageInc) sub-steps (capped at Params::max_substeps) with
+///     ln J_EL and dev(be) interpolated linearly and the stress evaluated at each sub-step END with
+///     the current moduli. QUIRK (PTR evaluates at the sub-step start and mixes two volumetric
+///     measures): fixed as recommended.
+///  6. Granular flow if D >= D_c, then P–alpha (granular.hpp).
+///  7. sigma_{n+1} = (p_K(J/J_GP, D) I + G(D) dev(be))/J_{n+1}.
+///  8. Specific energy e_{n+1} = e_n + dt/(2 rho0) (tau_n + tau_{n+1}) : d (El Mir Tillotson
+///     coupling is not specified; this explicit-energy update is the SPH-Tillotson convention).
+/// Kirchhoff mean stress p_K = J_EL (-p_T(rho0/J_EL, e)) K(D)/K0 (moduli.hpp).
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+
+#include "mpm/tonge_ramesh/params.hpp"
+
+namespace mpmfrag::tonge_ramesh {
+
+/// Largest number of flaw bins per point (stack scratch in the update).
+inline constexpr int kMaxBins = 256;
+
+/// Scalar state of one material point (per-bin arrays are passed separately).
+struct PointState {
+  double Iel = 1.0;        ///< tr(be)/3 >= 1
+  double D = 0.0;          ///< damage
+  double JGP = 1.0;        ///< granular Jacobian = P–alpha distension
+  double gp_strain = 0.0;  ///< accumulated granular deviatoric strain
+  double gp_energy = 0.0;  ///< dissipated energy per reference volume [J/m^3]
+  double e = 0.0;          ///< specific internal energy [J/kg]
+  int flags = 0;           ///< 1: D >= D_c, 2: J_GP >= JLoc
+};
+
+/// Kinematic input of one step.
+struct StepInput {
+  Eigen::Matrix3d L = Eigen::Matrix3d::Zero();  ///< velocity gradient [1/s]
+  double dt = 0.0;                              ///< [s]
+  double Jn = 1.0, Jnp1 = 1.0;                  ///< det F at start / end of step
+};
+
+/// Result of one update.
+enum class UpdateStatus { ok = 0, bad_input = 1 };
+
+/// Diagnostics of one update.
+struct StepDiag {
+  int substeps = 1;          ///< damage sub-steps used
+  bool capped = false;       ///< sub-step count hit Params::max_substeps
+  double dissipation = 0.0;  ///< granular + compaction dissipation this step [J/m^3]
+};
+
+/// Advance one point: sigma (Cauchy, in/out), state, bins (omega, s: const; l: in/out).
+/// On bad input (non-finite, J <= 0) returns bad_input; sigma and the scalar state are then left
+/// unchanged (the caller treats it as a numerical failure).
+UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in,
+                          Eigen::Matrix3d& sigma, PointState& st, int nbins, const double* omega,
+                          const double* s, double* l, StepDiag* diag = nullptr);
+
+/// Initial state after flaw sampling: D0 = sum omega s^3 (capped) if inc_init_damage.
+PointState initial_state(const Params& p, int nbins, const double* omega, const double* s);
+
+/// Longitudinal wave speed for the time step: sqrt((K_T(rho_s, e) + 4 G0/3)/rho), undamaged
+/// moduli (safe: damage only softens) and bulk density rho = rho0/J.
+double wave_speed(const Params& p, double J, double JGP, double e);
+
+}  // namespace mpmfrag::tonge_ramesh
