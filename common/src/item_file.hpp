@@ -68,7 +68,7 @@ inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t 
 }
 
 /// Read every float64 dataset of `g` not in `skip` as an optional field.
-std::vector<Field> read_fields(hid_t g, const std::string& group, const std::string& file,
+std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const std::string& file,
                                std::size_t n, const std::vector<std::string>& skip);
 
 inline std::vector<XdmfAttribute> field_attributes(const std::string& group, const std::vector<Field>& fields) {

@@ -8,7 +8,8 @@
 namespace common {
 
 void setup_logging(bool quiet, bool verbose) {
-  auto logger = spdlog::stderr_color_mt("suite");
+  auto logger = spdlog::get("suite");
+  if (!logger) logger = spdlog::stderr_color_mt("suite");
   spdlog::set_default_logger(logger);
   spdlog::set_pattern("[%H:%M:%S] [%^%l%$] %v");
   spdlog::set_level(quiet ? spdlog::level::warn : verbose ? spdlog::level::debug : spdlog::level::info);

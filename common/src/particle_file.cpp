@@ -11,7 +11,7 @@
 namespace common {
 
 namespace detail {
-std::vector<Field> read_fields(hid_t g, const std::string& group, const std::string& file,
+std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const std::string& file,
                                std::size_t n, const std::vector<std::string>& skip) {
   std::vector<Field> out;
   std::vector<std::string> names;
@@ -26,15 +26,16 @@ std::vector<Field> read_fields(hid_t g, const std::string& group, const std::str
     if (!ds.valid()) continue;  // a sub-group, not a dataset
     h5::Handle type(H5Dget_type(ds));
     if (H5Tget_class(type) != H5T_FLOAT) continue;  // only float64 state fields are fields
-    const auto d = h5::shape(g, nm, file);
+    const std::string full = group + "/" + nm;
+    const auto d = h5::shape(f, full, file);
     const std::size_t ncomp = d.size() == 2 ? d[1] : 1;
-    Field f;
-    f.name = nm;
-    f.ncomp = ncomp;
-    f.values = h5::read_doubles(g, nm, static_cast<long long>(n), ncomp, file);
-    f.unit = h5::unit_of(g, nm);
-    check_values(file, group + "/" + nm, f.values, ncomp, false);
-    out.push_back(std::move(f));
+    Field fl;
+    fl.name = nm;
+    fl.ncomp = ncomp;
+    fl.values = h5::read_doubles(f, full, static_cast<long long>(n), ncomp, file);
+    fl.unit = h5::unit_of(g, nm);
+    check_values(file, full, fl.values, ncomp, false);
+    out.push_back(std::move(fl));
   }
   return out;
 }
@@ -118,20 +119,20 @@ ParticleSnapshot read_particle_snapshot(const std::string& path, const H5Hook& e
     }
   }
   h5::Handle g = h5::open_group(f, "particles", path);
-  s.id = h5::read_u64(g, "id", -1, 1, path);
+  s.id = h5::read_u64(f, "/particles/id", -1, 1, path);
   const auto n = static_cast<long long>(s.id.size());
-  s.position = h5::read_doubles(g, "position", n, 3, path);
-  s.velocity = h5::read_doubles(g, "velocity", n, 3, path);
-  s.mass = h5::read_doubles(g, "mass", n, 1, path);
-  s.volume = h5::read_doubles(g, "volume", n, 1, path);
-  s.size = h5::read_doubles(g, "size", n, 3, path);
-  s.material = h5::read_i32(g, "material", n, 1, path);
+  s.position = h5::read_doubles(f, "/particles/position", n, 3, path);
+  s.velocity = h5::read_doubles(f, "/particles/velocity", n, 3, path);
+  s.mass = h5::read_doubles(f, "/particles/mass", n, 1, path);
+  s.volume = h5::read_doubles(f, "/particles/volume", n, 1, path);
+  s.size = h5::read_doubles(f, "/particles/size", n, 3, path);
+  s.material = h5::read_i32(f, "/particles/material", n, 1, path);
   check_values(path, "/particles/position", s.position, 3, false);
   check_values(path, "/particles/velocity", s.velocity, 3, false);
   check_values(path, "/particles/mass", s.mass, 1, true);
   check_values(path, "/particles/volume", s.volume, 1, true);
   check_values(path, "/particles/size", s.size, 3, true);
-  s.fields = read_fields(g, "/particles", path, s.id.size(),
+  s.fields = read_fields(f, g, "/particles", path, s.id.size(),
                          {"id", "position", "velocity", "mass", "volume", "size", "material"});
   if (extra) extra(f);
   return s;

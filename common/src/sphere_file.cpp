@@ -57,19 +57,19 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
   SphereSet s;
   read_header(f, path, kSphereFormat, kSphereFormatVersion, s.time, s.step);
   h5::Handle g = h5::open_group(f, "spheres", path);
-  s.id = h5::read_u64(g, "id", -1, 1, path);
+  s.id = h5::read_u64(f, "/spheres/id", -1, 1, path);
   const auto n = static_cast<long long>(s.id.size());
-  s.position = h5::read_doubles(g, "position", n, 3, path);
-  s.velocity = h5::read_doubles(g, "velocity", n, 3, path);
-  s.spin = h5::read_doubles(g, "spin", n, 3, path);
-  s.mass = h5::read_doubles(g, "mass", n, 1, path);
-  s.radius = h5::read_doubles(g, "radius", n, 1, path);
+  s.position = h5::read_doubles(f, "/spheres/position", n, 3, path);
+  s.velocity = h5::read_doubles(f, "/spheres/velocity", n, 3, path);
+  s.spin = h5::read_doubles(f, "/spheres/spin", n, 3, path);
+  s.mass = h5::read_doubles(f, "/spheres/mass", n, 1, path);
+  s.radius = h5::read_doubles(f, "/spheres/radius", n, 1, path);
   check_values(path, "/spheres/position", s.position, 3, false);
   check_values(path, "/spheres/velocity", s.velocity, 3, false);
   check_values(path, "/spheres/spin", s.spin, 3, false);
   check_values(path, "/spheres/mass", s.mass, 1, true);
   check_values(path, "/spheres/radius", s.radius, 1, true);
-  s.fields = read_fields(g, "/spheres", path, s.id.size(),
+  s.fields = read_fields(f, g, "/spheres", path, s.id.size(),
                          {"id", "position", "velocity", "spin", "mass", "radius"});
   if (extra) extra(f);
   return s;
