@@ -1,0 +1,472 @@
+// Contact detection and force assembly; equations in contact_law.hpp, design in contacts.hpp.
+#include "ssdem/contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "common/status.hpp"
+
+namespace ssdem {
+namespace {
+constexpr int kCellBits = 21;
+constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
+inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+  return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
+         (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
+}
+inline std::int64_t clampc(double v) {
+  if (!(v > 0.0)) return 0;
+  if (v >= static_cast<double>(kCellMax)) return kCellMax;
+  return static_cast<std::int64_t>(v);
+}
+struct Worst {
+  double frac = 0.0;
+  std::size_t a = 0, b = 0;
+  std::size_t key = std::numeric_limits<std::size_t>::max();
+  void offer(double f, std::size_t aa, std::size_t bb, std::size_t k) {
+    if (f > frac || (f == frac && k < key)) {
+      frac = f;
+      a = aa;
+      b = bb;
+      key = k;
+    }
+  }
+};
+}  // namespace
+
+ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, double skin)
+    : params_(p), coeffs_(p), walls_(std::move(walls)), skin_(skin) {
+  tang_ = p.parts & kPartTangential;
+  roll_ = p.parts & kPartRolling;
+  twist_ = p.parts & kPartTwisting;
+  hist_ = tang_ || roll_ || twist_;
+  if (!(p.kn > 0.0)) throw common::InputError("contact.normal.kn must be > 0");
+  if (!(skin >= 0.0)) throw common::InputError("contact.skin must be >= 0");
+  for (auto& w : walls_) {
+    const double nn = w.normal.norm();
+    if (!(nn > 0.0)) throw common::InputError("wall normal must be non-zero");
+    w.normal /= nn;
+  }
+}
+
+bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
+  const std::size_t n = sp.size();
+  bool need = force || xref_.size() != n || import_;
+  if (!need) {
+    const double lim2 = 0.25 * skin_ * skin_;
+    bool far = false;
+#pragma omp parallel for schedule(static) reduction(|| : far)
+    for (std::size_t i = 0; i < n; ++i)
+      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) far = true;
+    need = far;
+  }
+  if (need) build_pairs(sp);
+  return need;
+}
+
+void ContactSystem::build_pairs(const Spheres& sp) {
+  const std::size_t n = sp.size();
+  if (n >= std::numeric_limits<std::uint32_t>::max())
+    throw common::InputError("ssdem: more than 2^32-1 spheres are not supported");
+  ++rebuilds_;
+  xref_ = sp.x;
+  double smax = 0.0;
+  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < n; ++i) {
+    smax = std::max(smax, sp.s[i]);
+    lo = lo.cwiseMin(sp.x[i]);
+  }
+  const double cs = std::max(2.0 * smax + skin_, 1e-300);
+  std::vector<std::uint64_t> key(n);
+  std::vector<std::uint32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 c = (sp.x[i] - lo) / cs;
+    key[i] = cell_key(clampc(c.x()), clampc(c.y()), clampc(c.z()));
+    order[i] = static_cast<std::uint32_t>(i);
+  }
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return key[a] != key[b] ? key[a] < key[b] : a < b;
+  });
+  std::vector<std::uint64_t> skey(n);
+  for (std::size_t q = 0; q < n; ++q) skey[q] = key[order[q]];
+
+  const std::size_t nchunk = std::max<std::size_t>(1, std::min<std::size_t>(256, n / 64 + 1));
+  const std::size_t csize = (n + nchunk - 1) / nchunk;
+  std::vector<std::vector<std::uint32_t>> cj(nchunk);
+  std::vector<std::vector<std::uint32_t>> ccount(nchunk);
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t ch = 0; ch < nchunk; ++ch) {
+    const std::size_t b = ch * csize, e = std::min(n, b + csize);
+    auto& J = cj[ch];
+    auto& C = ccount[ch];
+    C.assign(e > b ? e - b : 0, 0);
+    std::vector<std::uint32_t> tmp;
+    for (std::size_t i = b; i < e; ++i) {
+      tmp.clear();
+      const std::uint64_t k = key[i];
+      const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
+      const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
+      const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
+      for (std::int64_t dx = -1; dx <= 1; ++dx)
+        for (std::int64_t dy = -1; dy <= 1; ++dy)
+          for (std::int64_t dz = -1; dz <= 1; ++dz) {
+            const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+            if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+            const std::uint64_t nk = cell_key(X, Y, Z);
+            auto r = std::equal_range(skey.begin(), skey.end(), nk);
+            for (auto it = r.first; it != r.second; ++it) {
+              const std::uint32_t j = order[static_cast<std::size_t>(it - skey.begin())];
+              if (j <= i) continue;
+              const double reach = sp.s[i] + sp.s[j] + skin_;
+              if ((sp.x[j] - sp.x[i]).squaredNorm() < reach * reach) tmp.push_back(j);
+            }
+          }
+      std::sort(tmp.begin(), tmp.end());
+      C[i - b] = static_cast<std::uint32_t>(tmp.size());
+      J.insert(J.end(), tmp.begin(), tmp.end());
+    }
+  }
+  // Concatenate in chunk order -> pair list sorted by (i, j).
+  std::vector<std::uint32_t> npi, npj;
+  std::size_t total = 0;
+  for (auto& J : cj) total += J.size();
+  npi.reserve(total);
+  npj.reserve(total);
+  for (std::size_t ch = 0; ch < nchunk; ++ch) {
+    std::size_t q = 0;
+    for (std::size_t ii = 0; ii < ccount[ch].size(); ++ii) {
+      const std::size_t i = ch * csize + ii;
+      for (std::uint32_t c = 0; c < ccount[ch][ii]; ++c, ++q) {
+        npi.push_back(static_cast<std::uint32_t>(i));
+        npj.push_back(cj[ch][q]);
+      }
+    }
+  }
+  {  // CSR start of each sphere's range as the i member
+    std::vector<std::uint32_t> cnt(n + 1, 0);
+    for (auto i : npi) ++cnt[i + 1];
+    for (std::size_t i = 0; i < n; ++i) cnt[i + 1] += cnt[i];
+    irow_ = cnt;
+  }
+  // Carry history from the old list (both sorted by (i, j)).
+  const std::size_t P = npi.size();
+  std::vector<std::uint8_t> nact(P, 0);
+  std::vector<Vec3> nS, nno, nthr;
+  std::vector<double> nthq;
+  if (tang_) nS.assign(P, Vec3::Zero());
+  if (hist_) nno.assign(P, Vec3::Zero());
+  if (roll_) nthr.assign(P, Vec3::Zero());
+  if (twist_) nthq.assign(P, 0.0);
+  auto copy_from = [&](std::size_t to, const HistoryRecord& r) {
+    nact[to] = 1;
+    if (tang_) nS[to] = r.S;
+    if (hist_) nno[to] = r.n_old;
+    if (roll_) nthr[to] = r.theta_r;
+    if (twist_) nthq[to] = r.theta_q;
+  };
+  if (import_) {
+    import_ = false;
+    // Imported history: map ids to indices, orient each record as (lower index, higher).
+    std::unordered_map<std::uint64_t, std::uint32_t> idx;
+    idx.reserve(n * 2);
+    for (std::size_t i = 0; i < n; ++i) idx.emplace(sp.id[i], static_cast<std::uint32_t>(i));
+    std::vector<std::pair<std::uint64_t, HistoryRecord>> recs;
+    for (const auto& r0 : pending_) {
+      if (r0.id_b >= kWallIdBase) continue;
+      auto ia = idx.find(r0.id_a), ib = idx.find(r0.id_b);
+      if (ia == idx.end() || ib == idx.end())
+        throw common::InputError("checkpoint contact history names an unknown sphere id");
+      HistoryRecord r = r0;
+      std::uint32_t a = ia->second, b = ib->second;
+      if (a > b) {  // swapping p and n flips S, n_old and theta_r; theta_q is symmetric
+        std::swap(a, b);
+        r.S = -r.S;
+        r.n_old = -r.n_old;
+        r.theta_r = -r.theta_r;
+      }
+      recs.emplace_back((static_cast<std::uint64_t>(a) << 32) | b, r);
+    }
+    std::sort(recs.begin(), recs.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t q = 0;
+    for (std::size_t p = 0; p < P && q < recs.size(); ++p) {
+      const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
+      while (q < recs.size() && recs[q].first < k) ++q;  // not a neighbour: cannot be in contact
+      if (q < recs.size() && recs[q].first == k) copy_from(p, recs[q].second);
+    }
+    // wall history
+    const std::size_t nw = walls_.size();
+    if (nw) {
+      wactive_.assign(n * nw, 0);
+      if (tang_) wS_.assign(n * nw, Vec3::Zero());
+      if (hist_) wnold_.assign(n * nw, Vec3::Zero());
+      if (roll_) wthr_.assign(n * nw, Vec3::Zero());
+      if (twist_) wthq_.assign(n * nw, 0.0);
+      for (const auto& r : pending_) {
+        if (r.id_b < kWallIdBase) continue;
+        const std::size_t w = r.id_b - kWallIdBase;
+        auto ia = idx.find(r.id_a);
+        if (ia == idx.end() || w >= nw)
+          throw common::InputError("checkpoint wall history names an unknown sphere or wall");
+        const std::size_t s = ia->second * nw + w;
+        wactive_[s] = 1;
+        if (tang_) wS_[s] = r.S;
+        if (hist_) wnold_[s] = r.n_old;
+        if (roll_) wthr_[s] = r.theta_r;
+        if (twist_) wthq_[s] = r.theta_q;
+      }
+    }
+    pending_.clear();
+  } else {
+    std::size_t q = 0;
+    const std::size_t Q = pi_.size();
+    for (std::size_t p = 0; p < P && q < Q; ++p) {
+      const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
+      auto okey = [&](std::size_t t) { return (static_cast<std::uint64_t>(pi_[t]) << 32) | pj_[t]; };
+      while (q < Q && okey(q) < k) ++q;
+      if (q < Q && okey(q) == k && active_[q]) {
+        nact[p] = 1;
+        if (tang_) nS[p] = S_[q];
+        if (hist_) nno[p] = nold_[q];
+        if (roll_) nthr[p] = thr_[q];
+        if (twist_) nthq[p] = thq_[q];
+      }
+    }
+  }
+  pi_.swap(npi);
+  pj_.swap(npj);
+  active_.swap(nact);
+  S_.swap(nS);
+  nold_.swap(nno);
+  thr_.swap(nthr);
+  thq_.swap(nthq);
+  pF_.resize(P);
+  pTp_.resize(P);
+  pTn_.resize(P);
+  // CSR of pairs by their j member (ascending pair index = ascending partner i).
+  jrow_.assign(n + 1, 0);
+  for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];
+  for (std::size_t i = 0; i < n; ++i) jrow_[i + 1] += jrow_[i];
+  jpair_.resize(P);
+  {
+    std::vector<std::uint32_t> fill(jrow_.begin(), jrow_.end() - 1);
+    for (std::size_t p = 0; p < P; ++p) jpair_[fill[pj_[p]]++] = static_cast<std::uint32_t>(p);
+  }
+  const std::size_t nw = walls_.size();
+  if (nw && wactive_.size() != n * nw) {
+    wactive_.assign(n * nw, 0);
+    if (tang_) wS_.assign(n * nw, Vec3::Zero());
+    if (hist_) wnold_.assign(n * nw, Vec3::Zero());
+    if (roll_) wthr_.assign(n * nw, Vec3::Zero());
+    if (twist_) wthq_.assign(n * nw, 0.0);
+  }
+}
+
+ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
+                                    const std::vector<Vec3>& wpred, double h,
+                                    std::vector<Vec3>& F, std::vector<Vec3>& T) {
+  switch (params_.parts & 15u) {
+#define SSDEM_CASE(k) \
+  case k:             \
+    return compute_impl<k>(sp, vpred, wpred, h, F, T);
+    SSDEM_CASE(0) SSDEM_CASE(1) SSDEM_CASE(2) SSDEM_CASE(3) SSDEM_CASE(4) SSDEM_CASE(5)
+    SSDEM_CASE(6) SSDEM_CASE(7) SSDEM_CASE(8) SSDEM_CASE(9) SSDEM_CASE(10) SSDEM_CASE(11)
+    SSDEM_CASE(12) SSDEM_CASE(13) SSDEM_CASE(14) SSDEM_CASE(15)
+#undef SSDEM_CASE
+  }
+  return {};
+}
+
+template <unsigned PARTS>
+ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
+                                         const std::vector<Vec3>& wpred, double h,
+                                         std::vector<Vec3>& F, std::vector<Vec3>& T) {
+  ContactStats st;
+  st.rebuilt = update_neighbors(sp);
+  const std::size_t n = sp.size();
+  const std::size_t P = pi_.size();
+  F.resize(n);
+  T.resize(n);
+  std::size_t ncont = 0;
+  Worst worst;
+#pragma omp parallel
+  {
+    Worst lw;
+    std::size_t lc = 0;
+#pragma omp for schedule(static)
+    for (std::size_t p = 0; p < P; ++p) {
+      const std::size_t i = pi_[p], j = pj_[p];
+      bool act = active_[p];
+      PairHistoryRef hr;
+      if (tang_) hr.S = &S_[p];
+      if (hist_) hr.n_old = &nold_[p];
+      if (roll_) hr.theta_r = &thr_[p];
+      if (twist_) hr.theta_q = &thq_[p];
+      PairResult res;
+      const double mu = sp.m[i] * sp.m[j] / (sp.m[i] + sp.m[j]);
+      const bool c = contact_pair<PARTS, false>(coeffs_, sp.x[j] - sp.x[i], sp.s[i], sp.s[j], mu,
+                                                vpred[i], vpred[j], wpred[i], wpred[j], sp.w[i],
+                                                sp.w[j], h, act, hr, res);
+      active_[p] = act ? 1 : 0;
+      if (c) {
+        pF_[p] = res.F;
+        pTp_[p] = res.Tp;
+        pTn_[p] = res.Tn;
+        ++lc;
+        lw.offer(res.overlap / std::min(sp.s[i], sp.s[j]), i, j, p);
+      }
+    }
+#pragma omp critical(ssdem_contact_stats)
+    {
+      ncont += lc;
+      worst.offer(lw.frac, lw.a, lw.b, lw.key);
+    }
+  }
+  st.contacts = ncont;
+  const std::size_t nw = walls_.size();
+  std::size_t nwc = 0;
+  Worst wworst;
+#pragma omp parallel
+  {
+    Worst lw;
+    std::size_t lc = 0;
+#pragma omp for schedule(static)
+    for (std::size_t k = 0; k < n; ++k) {
+      Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+      for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
+        const std::uint32_t p = jpair_[q];
+        if (active_[p]) {
+          f -= pF_[p];
+          t += pTn_[p];
+        }
+      }
+      for (std::uint32_t p = irow_[k]; p < irow_[k + 1]; ++p) {
+        if (active_[p]) {
+          f += pF_[p];
+          t += pTp_[p];
+        }
+      }
+      for (std::size_t w = 0; w < nw; ++w) {
+        const Plane& pl = walls_[w];
+        double dist = (sp.x[k] - pl.point).dot(pl.normal);
+        const std::size_t s = k * nw + w;
+        if (dist >= sp.s[k]) {
+          wactive_[s] = 0;
+          continue;
+        }
+        dist = std::max(dist, 1e-9 * sp.s[k]);
+        bool act = wactive_[s];
+        PairHistoryRef hr;
+        if (tang_) hr.S = &wS_[s];
+        if (hist_) hr.n_old = &wnold_[s];
+        if (roll_) hr.theta_r = &wthr_[s];
+        if (twist_) hr.theta_q = &wthq_[s];
+        PairResult res;
+        static const Vec3 zero = Vec3::Zero();
+        contact_pair<PARTS, true>(coeffs_, -dist * pl.normal, sp.s[k], 0.0, sp.m[k], vpred[k],
+                                  zero, wpred[k], zero, sp.w[k], zero, h, act, hr, res);
+        wactive_[s] = act ? 1 : 0;
+        f += res.F;
+        t += res.Tp;
+        ++lc;
+        lw.offer(res.overlap / sp.s[k], k, k, s);
+      }
+      F[k] = f;
+      T[k] = t;
+    }
+#pragma omp critical(ssdem_wall_stats)
+    {
+      nwc += lc;
+      wworst.offer(lw.frac, lw.a, lw.b, lw.key);
+    }
+  }
+  st.wall_contacts = nwc;
+  st.max_overlap_frac = worst.frac;
+  st.worst_a = worst.a;
+  st.worst_b = worst.b;
+  if (wworst.frac > st.max_overlap_frac) {
+    st.max_overlap_frac = wworst.frac;
+    st.worst_a = st.worst_b = wworst.a;
+  }
+  return st;
+}
+
+double ContactSystem::elastic_energy(const Spheres& sp) const {
+  double e = 0.0;
+  for (std::size_t p = 0; p < pi_.size(); ++p) {
+    if (!active_[p]) continue;
+    const std::size_t i = pi_[p], j = pj_[p];
+    const double d = (sp.x[j] - sp.x[i]).norm();
+    const double x = sp.s[i] + sp.s[j] - d;
+    if (x <= 0.0) continue;
+    e += contact_elastic_energy(coeffs_, params_.parts, x, sp.s[i] * sp.s[j] / (sp.s[i] + sp.s[j]),
+                                tang_ ? &S_[p] : nullptr, roll_ ? &thr_[p] : nullptr,
+                                twist_ ? &thq_[p] : nullptr);
+  }
+  const std::size_t nw = walls_.size();
+  for (std::size_t k = 0; k < sp.size() && nw; ++k)
+    for (std::size_t w = 0; w < nw; ++w) {
+      const std::size_t s = k * nw + w;
+      if (!wactive_[s]) continue;
+      const double x = sp.s[k] - (sp.x[k] - walls_[w].point).dot(walls_[w].normal);
+      if (x <= 0.0) continue;
+      e += contact_elastic_energy(coeffs_, params_.parts, x, sp.s[k], tang_ ? &wS_[s] : nullptr,
+                                  roll_ ? &wthr_[s] : nullptr, twist_ ? &wthq_[s] : nullptr);
+    }
+  return e;
+}
+
+std::vector<HistoryRecord> ContactSystem::export_history(const Spheres& sp) const {
+  std::vector<HistoryRecord> out;
+  for (std::size_t p = 0; p < pi_.size(); ++p) {
+    if (!active_[p]) continue;
+    HistoryRecord r;
+    r.id_a = sp.id[pi_[p]];
+    r.id_b = sp.id[pj_[p]];
+    if (tang_) r.S = S_[p];
+    if (hist_) r.n_old = nold_[p];
+    if (roll_) r.theta_r = thr_[p];
+    if (twist_) r.theta_q = thq_[p];
+    out.push_back(r);
+  }
+  const std::size_t nw = walls_.size();
+  for (std::size_t k = 0; k < sp.size() && nw && wactive_.size() == sp.size() * nw; ++k)
+    for (std::size_t w = 0; w < nw; ++w) {
+      const std::size_t s = k * nw + w;
+      if (!wactive_[s]) continue;
+      HistoryRecord r;
+      r.id_a = sp.id[k];
+      r.id_b = kWallIdBase + w;
+      if (tang_) r.S = wS_[s];
+      if (hist_) r.n_old = wnold_[s];
+      if (roll_) r.theta_r = wthr_[s];
+      if (twist_) r.theta_q = wthq_[s];
+      out.push_back(r);
+    }
+  return out;
+}
+
+void ContactSystem::import_history(const Spheres& sp, const std::vector<HistoryRecord>& recs) {
+  pending_ = recs;
+  import_ = true;
+  wactive_.clear();
+  build_pairs(sp);
+}
+
+double ContactSystem::bytes_per_sphere(std::size_t n) const {
+  if (n == 0) return 0.0;
+  const double P = static_cast<double>(pi_.size());
+  double per_pair = 4 + 4 + 1 + 3 * 24 + 4;  // pi, pj, active, results, jpair
+  if (tang_) per_pair += 24;
+  if (hist_) per_pair += 24;
+  if (roll_) per_pair += 24;
+  if (twist_) per_pair += 8;
+  double b = P * per_pair + 8.0 * (n + 1) + 24.0 * n;  // irow/jrow, xref
+  b += static_cast<double>(wactive_.size()) * (1 + (tang_ ? 24 : 0) + (hist_ ? 24 : 0) +
+                                               (roll_ ? 24 : 0) + (twist_ ? 8 : 0));
+  return b / static_cast<double>(n);
+}
+
+}  // namespace ssdem

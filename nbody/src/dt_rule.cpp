@@ -1,0 +1,61 @@
+// k_n and dt selection; equations in dt_rule.hpp.
+#include "ssdem/dt_rule.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/status.hpp"
+
+namespace ssdem {
+
+DtAdvice choose_kn_dt(double m, double s, double vmax, double en, double overlap_frac,
+                      double steps_per_contact, double rho_phi_ag_H) {
+  if (!(m > 0 && s > 0 && vmax >= 0 && overlap_frac > 0 && steps_per_contact > 0))
+    throw common::InputError("choose_kn_dt: mass, radius, overlap fraction and steps must be > 0");
+  DtAdvice a;
+  const double xmax = overlap_frac * s;
+  a.kn_kinetic = m * vmax * vmax / (xmax * xmax);
+  a.kn_static = rho_phi_ag_H * s / xmax;
+  a.kn = std::max(a.kn_kinetic, a.kn_static);
+  if (!(a.kn > 0)) throw common::InputError("choose_kn_dt: k_n would be zero (vmax = 0 and no static load)");
+  ContactParams p;
+  p.kn = a.kn;
+  p.en = en;
+  p.parts = en < 1.0 ? kPartDamping : 0u;
+  a.tau = p.contact_time(0.5 * m);
+  a.dt = a.tau / steps_per_contact;
+  return a;
+}
+
+double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool walls) {
+  if (sp.size() == 0) return INFINITY;
+  double m1 = INFINITY, m2 = INFINITY;  // two smallest masses
+  for (double m : sp.m) {
+    if (m < m1) {
+      m2 = m1;
+      m1 = m;
+    } else if (m < m2) {
+      m2 = m;
+    }
+  }
+  double mu = std::isfinite(m2) ? m1 * m2 / (m1 + m2) : INFINITY;
+  if (walls) mu = std::min(mu, m1);
+  if (!std::isfinite(mu)) return INFINITY;
+  return p.contact_time(mu);
+}
+
+void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps) {
+  const double tau = shortest_contact_time(p, sp, walls);
+  if (!std::isfinite(tau)) return;
+  if (dt * min_steps > tau) {
+    std::ostringstream os;
+    os << "time.dt = " << dt << " s resolves the shortest contact (tau = " << tau
+       << " s for k_n = " << p.kn << " N/m) with only " << tau / dt
+       << " steps; at least " << min_steps << " are required (time.min_steps_per_contact). "
+       << "Use dt <= " << tau / min_steps << " s or a softer k_n.";
+    throw common::InputError(os.str());
+  }
+}
+
+}  // namespace ssdem

@@ -1,0 +1,219 @@
+// KDK leapfrog driver; equations in simulation.hpp.
+#include "ssdem/simulation.hpp"
+
+#include <omp.h>
+
+#include <cmath>
+#include <sstream>
+
+#include "common/status.hpp"
+#include "ssdem/dt_rule.hpp"
+
+namespace ssdem {
+
+Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(sp)) {
+  setup();
+  const std::size_t n = sp_.size();
+  a_.assign(n, Vec3::Zero());
+  alpha_.assign(n, Vec3::Zero());
+  ag_.assign(n, Vec3::Zero());
+  compute_forces(true);
+  check_state();
+}
+
+Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(st.sp)) {
+  setup();
+  const std::size_t n = sp_.size();
+  if (st.a.size() != n || st.alpha.size() != n || (cfg_.self_gravity && st.ag.size() != n))
+    throw common::InputError("restart state: acceleration arrays do not match the sphere count");
+  a_ = std::move(st.a);
+  alpha_ = std::move(st.alpha);
+  ag_ = cfg_.self_gravity ? std::move(st.ag) : std::vector<Vec3>(n, Vec3::Zero());
+  step_ = st.step;
+  time_ = st.time;
+  grav_step_ = st.gravity_step;
+  if (contacts_) contacts_->import_history(sp_, st.history);
+}
+
+void Simulation::setup() {
+  if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
+  if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
+  const std::size_t n = sp_.size();
+  if (sp_.x.size() != n || sp_.v.size() != n || sp_.w.size() != n || sp_.m.size() != n ||
+      sp_.s.size() != n)
+    throw common::InputError("spheres: array sizes differ");
+  for (std::size_t i = 0; i < n; ++i)
+    if (!(sp_.m[i] > 0.0) || !(sp_.s[i] > 0.0))
+      throw common::InputError("sphere id " + std::to_string(sp_.id[i]) +
+                               ": mass and radius must be > 0");
+  if (cfg_.contacts) {
+    check_dt(cfg_.contact, sp_, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
+    double smax = 0;
+    for (double s : sp_.s) smax = std::max(smax, s);
+    const double skin = cfg_.skin > 0.0 ? cfg_.skin : 0.1 * smax;
+    contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin);
+  }
+  if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);
+}
+
+void Simulation::compute_gravity(bool with_pot) {
+  const double t0 = omp_get_wtime();
+  std::vector<double>* pp = with_pot ? &pot_ : nullptr;
+  if (tree_)
+    tree_->compute(sp_, ag_, pp);
+  else
+    direct_gravity(sp_, cfg_.gravity.G, ag_, pp);
+  grav_step_ = step_;
+  if (with_pot) pot_step_ = step_;
+  times_.gravity += omp_get_wtime() - t0;
+  ++times_.gravity_evals;
+}
+
+void Simulation::compute_forces(bool initial) {
+  const std::size_t n = sp_.size();
+  const double h = cfg_.dt;
+  if (contacts_) {
+    vpred_.resize(n);
+    wpred_.resize(n);
+    if (initial) {
+      vpred_ = sp_.v;
+      wpred_ = sp_.w;
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::size_t i = 0; i < n; ++i) {
+        vpred_[i] = sp_.v[i] + 0.5 * h * a_[i];
+        wpred_[i] = sp_.w[i] + 0.5 * h * alpha_[i];
+      }
+    }
+    double t0 = omp_get_wtime();
+    contacts_->update_neighbors(sp_);
+    double t1 = omp_get_wtime();
+    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
+    double t2 = omp_get_wtime();
+    times_.neighbours += t1 - t0;
+    times_.contacts += t2 - t1;
+  }
+  if (cfg_.self_gravity && (initial || step_ % cfg_.gravity_every == 0)) compute_gravity(false);
+  const Vec3 g = cfg_.uniform_g;
+  const bool sg = cfg_.self_gravity, ct = contacts_ != nullptr;
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    Vec3 a = g;
+    if (sg) a += ag_[i];
+    if (ct) {
+      a += F_[i] / sp_.m[i];
+      alpha_[i] = T_[i] / sp_.inertia(i);
+    }
+    a_[i] = a;
+  }
+}
+
+void Simulation::step() {
+  const std::size_t n = sp_.size();
+  const double h = cfg_.dt, hh = 0.5 * h;
+  const bool spin = contacts_ != nullptr;
+  double t0 = omp_get_wtime();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    sp_.v[i] += hh * a_[i];
+    if (spin) sp_.w[i] += hh * alpha_[i];
+    sp_.x[i] += h * sp_.v[i];
+  }
+  ++step_;
+  time_ = static_cast<double>(step_) * h;  // no accumulated round-off; identical on restart
+  times_.integrate += omp_get_wtime() - t0;
+  compute_forces(false);
+  t0 = omp_get_wtime();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    sp_.v[i] += hh * a_[i];
+    if (spin) sp_.w[i] += hh * alpha_[i];
+  }
+  times_.integrate += omp_get_wtime() - t0;
+  ++times_.steps;
+  check_state();
+}
+
+void Simulation::check_state() {
+  const std::size_t n = sp_.size();
+  bool bad = false;
+#pragma omp parallel for schedule(static) reduction(|| : bad)
+  for (std::size_t i = 0; i < n; ++i)
+    if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() ||
+        !sp_.w[i].allFinite())
+      bad = true;
+  if (bad) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() ||
+          !sp_.w[i].allFinite()) {
+        std::ostringstream os;
+        os << "non-finite state of sphere id " << sp_.id[i] << " at step " << step_;
+        throw common::NumericalError(os.str());
+      }
+  }
+  if (contacts_ && cstats_.max_overlap_frac > cfg_.max_overlap_frac) {
+    std::ostringstream os;
+    os << "overlap of " << cstats_.max_overlap_frac
+       << " x the smaller radius (limit contact.max_overlap_fraction = " << cfg_.max_overlap_frac
+       << ") between sphere ids " << sp_.id[cstats_.worst_a] << " and "
+       << (cstats_.worst_a == cstats_.worst_b ? std::string("a wall")
+                                              : std::to_string(sp_.id[cstats_.worst_b]))
+       << " at step " << step_ << ": k_n too soft or dt too large for this impact speed";
+    throw common::NumericalError(os.str());
+  }
+  if (keep_every_ > 0 && step_ % keep_every_ == 0) last_good_ = state();
+}
+
+Diagnostics Simulation::diagnostics() {
+  Diagnostics d;
+  const std::size_t n = sp_.size();
+  if (cfg_.self_gravity && pot_step_ != step_) {
+    // potential at the current positions; keep the held acceleration untouched
+    std::vector<Vec3> keep = ag_;
+    const std::int64_t gs = grav_step_;
+    compute_gravity(true);
+    ag_.swap(keep);
+    grav_step_ = gs;
+    --times_.gravity_evals;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double m = sp_.m[i];
+    d.kinetic += 0.5 * m * sp_.v[i].squaredNorm();
+    if (contacts_) d.rotational += 0.5 * sp_.inertia(i) * sp_.w[i].squaredNorm();
+    if (cfg_.self_gravity) d.potential_self += 0.5 * m * pot_[i];
+    d.potential_uniform -= m * cfg_.uniform_g.dot(sp_.x[i]);
+    d.momentum += m * sp_.v[i];
+    d.angular_momentum += m * sp_.x[i].cross(sp_.v[i]) + sp_.inertia(i) * sp_.w[i];
+  }
+  if (contacts_) {
+    d.elastic = contacts_->elastic_energy(sp_);
+    d.contacts = cstats_.contacts;
+    d.wall_contacts = cstats_.wall_contacts;
+    d.max_overlap_frac = cstats_.max_overlap_frac;
+  }
+  return d;
+}
+
+SimState Simulation::state() const {
+  SimState s;
+  s.sp = sp_;
+  s.a = a_;
+  s.alpha = alpha_;
+  if (cfg_.self_gravity) s.ag = ag_;
+  s.step = step_;
+  s.time = time_;
+  s.gravity_step = grav_step_;
+  if (contacts_) s.history = contacts_->export_history(sp_);
+  return s;
+}
+
+double Simulation::bytes_per_sphere() const {
+  const std::size_t n = sp_.size();
+  double b = Spheres::bytes_per_sphere() + 2 * 24;  // spheres + a, alpha
+  if (cfg_.self_gravity) b += 24;
+  if (contacts_) b += 4 * 24 + contacts_->bytes_per_sphere(n);  // vpred, wpred, F, T
+  if (tree_) b += tree_->bytes_per_sphere(n);
+  return b;
+}
+
+}  // namespace ssdem
