@@ -7,6 +7,7 @@
 
 #include "mpm/material.hpp"
 #include "mpm/materials/builtin.hpp"
+#include "mpm/tonge_ramesh/style.hpp"
 
 namespace mpmfrag {
 
@@ -37,6 +38,7 @@ void register_builtin_materials(MaterialRegistry& reg) {
   register_elastic(reg);
   register_neo_hookean(reg);
   register_tillotson(reg);
+  register_tonge_ramesh(reg);
   // Plug-in styles: one line each, e.g. register_tonge_ramesh(reg);
 }
 
