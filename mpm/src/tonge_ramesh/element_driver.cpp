@@ -70,9 +70,9 @@ ElementResult run_uniaxial_stress(const Params& p, double V, std::uint64_t id, d
     strain += rate * dt;
     res.steps = step + 1;
     const double a = std::abs(sig(0, 0));
-    res.max_lateral_residual =
-        std::max(res.max_lateral_residual, std::abs(sig(1, 1)) / std::max(a, 1.0));
-    if (a > res.peak_stress && !past_peak) {
+    if (a > res.peak_stress && !past_peak) {  // loading branch: check the lateral condition
+      res.max_lateral_residual =
+          std::max(res.max_lateral_residual, std::abs(sig(1, 1)) / std::max(a, 1.0));
       res.peak_stress = a;
       res.strain_at_peak = strain;
     }

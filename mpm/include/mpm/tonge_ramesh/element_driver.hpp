@@ -22,7 +22,7 @@ struct ElementResult {
   double peak_stress = 0.0;     ///< max |sigma_11| [Pa]
   double strain_at_peak = 0.0;  ///< axial log strain at the peak
   double final_D = 0.0;
-  double max_lateral_residual = 0.0;  ///< max |sigma_22| / max(|sigma_11|, 1 Pa)
+  double max_lateral_residual = 0.0;  ///< max |sigma_22|/|sigma_11| on the loading branch
   long steps = 0;
   bool ok = true;               ///< false: the point update rejected an input
   std::vector<ElementSample> history;  ///< every `record_every`-th step (if > 0)
