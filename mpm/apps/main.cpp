@@ -1,0 +1,12 @@
+// mpm-frag: 3D explicit MPM (uGIMP) for hypervelocity impacts. Thin main over the mpm library.
+#include "common/cli.hpp"
+#include "mpm/run.hpp"
+#include "mpm/scene_setup.hpp"
+
+int main(int argc, char** argv) {
+  common::ToolApp app("mpm-frag", "3D explicit Material Point Method (uGIMP) for impacts", mpmfrag::mpm_schema());
+  return app.run(argc, argv, [](const common::Scene& scene, const common::Provenance& prov) {
+    mpmfrag::run_mpm(scene, prov);
+    return 0;
+  });
+}

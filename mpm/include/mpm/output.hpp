@@ -1,0 +1,32 @@
+/// @file output.hpp
+/// Particle snapshots (common::write_particle_snapshot, the file contract in particle_file.hpp)
+/// and the time-series CSV of mpm-frag.
+#pragma once
+#include <fstream>
+#include <string>
+
+#include "common/particle_file.hpp"
+#include "mpm/solver.hpp"
+
+namespace mpmfrag {
+
+/// Snapshot of the given state: core datasets, `stress` (N x 6 Voigt, Pa),
+/// `internal_energy` (J/kg) and every style state field flagged for output (for particles of
+/// materials without that field the field's initial value is written).
+common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
+                                       const common::GridInfo& grid, double time, std::int64_t step);
+
+/// Time series: one CSV row per call.
+class SeriesWriter {
+ public:
+  /// Opens (truncates) `path` and writes the header. Throws common::IoError.
+  explicit SeriesWriter(const std::string& path);
+  /// Append a row and flush.
+  void write(std::int64_t step, double t, double dt, const Diagnostics& d);
+
+ private:
+  std::ofstream out_;
+  std::string path_;
+};
+
+}  // namespace mpmfrag

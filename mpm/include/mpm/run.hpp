@@ -1,0 +1,31 @@
+/// @file run.hpp
+/// The mpm-frag driver: scene -> solver -> time loop with snapshots, time series, progress,
+/// last-good-state backups and clean failure (common::NumericalError, exit code 3, state saved).
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "common/provenance.hpp"
+#include "common/schema.hpp"
+#include "mpm/solver.hpp"
+
+namespace mpmfrag {
+
+/// What a completed run reports (also logged).
+struct RunSummary {
+  std::int64_t steps = 0;
+  double time = 0;
+  Diagnostics initial, final;
+  double wall_s = 0;
+  double bytes_per_particle = 0;
+  std::size_t particles = 0;
+  double first_dt = 0, min_dt = 0, max_dt = 0;
+  std::string last_snapshot;
+  std::string series_path;
+};
+
+/// Run the scene. Throws common::InputError (bad scene), common::IoError (outputs) or
+/// common::NumericalError (after saving the last good state; `saved_state()` names the file).
+RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov);
+
+}  // namespace mpmfrag

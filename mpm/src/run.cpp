@@ -1,0 +1,134 @@
+/// @file run.cpp
+/// mpm-frag time loop (no physics here; see solver.hpp).
+#include "mpm/run.hpp"
+
+#include <omp.h>
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "common/log.hpp"
+#include "common/status.hpp"
+#include "mpm/output.hpp"
+#include "mpm/scene_setup.hpp"
+
+namespace mpmfrag {
+namespace {
+
+std::string snap_name(const RunConfig& r, const std::string& tag, std::int64_t step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "_%s%06lld.h5", tag.c_str(), static_cast<long long>(step));
+  return (std::filesystem::path(r.out_dir) / (r.prefix + buf)).string();
+}
+
+}  // namespace
+
+RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
+  Setup st = build_setup(scene);
+  const RunConfig rc = st.run;
+  if (rc.threads > 0) omp_set_num_threads(rc.threads);
+  std::error_code ec;
+  std::filesystem::create_directories(rc.out_dir, ec);
+  if (ec) throw common::IoError("cannot create output directory '" + rc.out_dir + "': " + ec.message());
+
+  const std::size_t n = st.particles.size();
+  Solver solver(st.solver, st.grid, std::move(st.particles), std::move(st.materials));
+  RunSummary sum;
+  sum.particles = n;
+  sum.bytes_per_particle = solver.bytes_per_particle();
+  spdlog::info("mpm-frag: {} particles, {} materials, grid {}x{}x{} nodes (h = {:.4g} m), {} threads", n,
+               solver.materials().size(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
+               st.grid.cell_size[0], omp_get_max_threads());
+  spdlog::info("memory: {:.1f} bytes/particle (particles + material state), grid {:.1f} MB",
+               sum.bytes_per_particle, solver.grid_bytes() / 1e6);
+  spdlog::info("solver: {} / {} / FLIP {:.3g} / Courant {:.3g} / artificial viscosity {}",
+               shape_kind_name(st.solver.shape), scheme_name(st.solver.scheme), st.solver.flip,
+               st.solver.courant, st.solver.artificial_viscosity ? "on" : "off");
+  for (const MaterialSlot& m : solver.materials())
+    spdlog::info("material '{}' ({}): {} particles, c_ref = {:.1f} m/s, {} state field(s)", m.name, m.style->name,
+                 m.end - m.begin, m.model->reference_wave_speed(), m.state.size());
+
+  const auto t0 = std::chrono::steady_clock::now();
+  solver.initialize();
+  SeriesWriter series((std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string());
+  sum.series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
+  auto write_snap = [&](const ParticleSet& ps, const std::vector<MaterialSlot>& mats, double t, std::int64_t step,
+                        const std::string& tag) {
+    const std::string path = snap_name(rc, tag, step);
+    common::write_particle_snapshot(path, make_snapshot(ps, mats, solver.grid(), t, step), prov);
+    return path;
+  };
+  sum.initial = solver.diagnostics();
+  series.write(0, 0.0, 0.0, sum.initial);
+  sum.last_snapshot = write_snap(solver.particles(), solver.materials(), 0.0, 0, "");
+  const double E0 = sum.initial.total();
+  double next_snap = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
+  common::Progress progress("mpm-frag", 0.0, rc.t_end, rc.progress_interval);
+  {
+    const double dt0 = solver.stable_dt();
+    spdlog::info("first dt = {:.4g} s ({} limit)", dt0, solver.dt_capped() ? "time.dt_max" : "CFL");
+    sum.first_dt = dt0;
+  }
+  sum.min_dt = 1e300;
+  bool warned_cap = false;
+  double dt = 0;
+  while (solver.time() < rc.t_end * (1 - 1e-12)) {
+    if (rc.max_steps > 0 && solver.step_count() >= rc.max_steps) {
+      spdlog::warn("stopping at time.max_steps = {} (t = {:.6g} s < end {:.6g} s)", rc.max_steps, solver.time(), rc.t_end);
+      break;
+    }
+    if (solver.step_count() % rc.backup_every == 0) solver.save_backup();
+    dt = solver.stable_dt();
+    if (!solver.dt_capped() && st.solver.dt_max < 1e29 && !warned_cap) {
+      spdlog::warn("time.dt_max = {:.3g} s exceeds the stable (CFL) step {:.3g} s; using the CFL step", st.solver.dt_max, dt);
+      warned_cap = true;
+    }
+    const double target = std::min(next_snap, rc.t_end);
+    if (solver.time() + dt > target) dt = target - solver.time();
+    if (!(dt > 0)) dt = solver.stable_dt();
+    try {
+      solver.step(dt);
+    } catch (const SolverFailure& f) {
+      std::string path;
+      if (f.state_intact) {
+        path = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "failed_");
+      } else if (solver.backup().valid) {
+        const Backup& b = solver.backup();
+        path = write_snap(b.particles, b.materials, b.time, b.step, "failed_");
+      }
+      series.write(solver.step_count(), solver.time(), dt, solver.diagnostics());
+      spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
+      throw common::NumericalError(std::string(f.what()), path);
+    }
+    sum.min_dt = std::min(sum.min_dt, dt);
+    sum.max_dt = std::max(sum.max_dt, dt);
+    const bool at_snap = solver.time() >= next_snap * (1 - 1e-12);
+    const bool at_end = solver.time() >= rc.t_end * (1 - 1e-12);
+    if (solver.step_count() % rc.series_every == 0 || at_end || at_snap) {
+      const Diagnostics d = solver.diagnostics();
+      series.write(solver.step_count(), solver.time(), dt, d);
+      progress.update(solver.step_count(), solver.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
+    }
+    if (at_snap && !at_end) {
+      sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+      next_snap += rc.snapshot_interval;
+    }
+  }
+  sum.final = solver.diagnostics();
+  sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+  sum.steps = solver.step_count();
+  sum.time = solver.time();
+  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  progress.update(sum.steps, sum.time, dt, E0 != 0 ? (sum.final.total() - E0) / std::fabs(E0) : 0.0, true);
+  const double us = sum.wall_s * 1e6 / (static_cast<double>(n) * std::max<std::int64_t>(1, sum.steps));
+  spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s wall ({:.3f} us per particle-step, {} threads)", sum.steps,
+               sum.time, sum.wall_s, us, omp_get_max_threads());
+  spdlog::info("energy: E0 = {:.6g} J, E = {:.6g} J (kinetic {:.6g}, internal {:.6g}), change {:+.3f} %", E0,
+               sum.final.total(), sum.final.kinetic, sum.final.internal,
+               E0 != 0 ? 100 * (sum.final.total() - E0) / std::fabs(E0) : 0.0);
+  return sum;
+}
+
+}  // namespace mpmfrag

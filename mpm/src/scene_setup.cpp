@@ -1,0 +1,262 @@
+/// @file scene_setup.cpp
+/// Scene schema and body/particle generation for mpm-frag (no physics here).
+#include "mpm/scene_setup.hpp"
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <functional>
+#include <limits>
+
+#include "common/status.hpp"
+
+namespace mpmfrag {
+namespace {
+
+constexpr double kBig = 1e30;
+
+common::Schema body_shapes_sphere() {
+  common::Schema s("sphere");
+  s.add_vec3("center", std::nullopt, "m", -kBig, kBig, "sphere centre");
+  s.add_real("radius", std::nullopt, "m", 0.0, kBig, "sphere radius", true);
+  return s;
+}
+common::Schema body_shapes_box() {
+  common::Schema s("box");
+  s.add_vec3("min", std::nullopt, "m", -kBig, kBig, "lower corner");
+  s.add_vec3("max", std::nullopt, "m", -kBig, kBig, "upper corner");
+  return s;
+}
+common::Schema body_shapes_cylinder() {
+  common::Schema s("cylinder");
+  s.add_vec3("center", std::nullopt, "m", -kBig, kBig, "centre of the cylinder (mid-length)");
+  s.add_choice("axis", std::string("z"), {"x", "y", "z"}, "cylinder axis");
+  s.add_real("radius", std::nullopt, "m", 0.0, kBig, "radius", true);
+  s.add_real("length", std::nullopt, "m", 0.0, kBig, "length along the axis (a thin disk: one cell)", true);
+  return s;
+}
+
+struct Primitive {
+  std::function<bool(const Eigen::Vector3d&)> inside;
+  Eigen::Vector3d lo, hi, center;
+};
+
+Primitive make_primitive(const common::Scene& b, const std::string& where) {
+  Primitive p;
+  const std::string shape = b.string("shape");
+  if (shape == "sphere") {
+    const Eigen::Vector3d c = b.vec3("center");
+    const double r = b.real("radius");
+    p.inside = [c, r](const Eigen::Vector3d& x) { return (x - c).squaredNorm() <= r * r; };
+    p.lo = c.array() - r;
+    p.hi = c.array() + r;
+    p.center = c;
+  } else if (shape == "box") {
+    const Eigen::Vector3d lo = b.vec3("min"), hi = b.vec3("max");
+    if (!((hi - lo).minCoeff() > 0)) throw common::InputError(where, "max", "box max must exceed min in every axis");
+    p.inside = [lo, hi](const Eigen::Vector3d& x) { return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all(); };
+    p.lo = lo;
+    p.hi = hi;
+    p.center = 0.5 * (lo + hi);
+  } else {
+    const Eigen::Vector3d c = b.vec3("center");
+    const double r = b.real("radius"), len = b.real("length");
+    const std::string ax = b.string("axis");
+    const int a = ax == "x" ? 0 : ax == "y" ? 1 : 2;
+    p.inside = [c, r, len, a](const Eigen::Vector3d& x) {
+      Eigen::Vector3d d = x - c;
+      const double along = d[a];
+      d[a] = 0;
+      return std::fabs(along) <= 0.5 * len && d.squaredNorm() <= r * r;
+    };
+    p.lo = c.array() - r;
+    p.hi = c.array() + r;
+    p.lo[a] = c[a] - 0.5 * len;
+    p.hi[a] = c[a] + 0.5 * len;
+    p.center = c;
+  }
+  return p;
+}
+
+}  // namespace
+
+common::Schema mpm_schema(const MaterialRegistry& reg) {
+  common::Schema s("mpm-frag scene");
+  s.add_vec3("grid.domain_min", std::nullopt, "m", -kBig, kBig, "lower corner of the simulation domain (boundary planes)");
+  s.add_vec3("grid.domain_max", std::nullopt, "m", -kBig, kBig, "upper corner of the simulation domain");
+  s.add_real("grid.cell_size", std::nullopt, "m", 0.0, kBig, "cubic cell edge h", true);
+  s.add_int("grid.ghost_layers", 2, 1, 8, "node layers outside each domain face");
+
+  s.add_choice("solver.shape", std::string("ugimp"), {"ugimp", "linear"}, "interpolation: uGIMP (default) or classic linear MPM");
+  s.add_choice("solver.scheme", std::string("musl"), {"usl", "usf", "musl"}, "stress-update order");
+  s.add_real("solver.flip", 1.0, "1", 0.0, 1.0, "FLIP fraction of the particle velocity update (1 = FLIP, 0 = PIC)");
+  s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(c + |v|)", true);
+  s.add_real("solver.min_mass_fraction", 1e-3, "1", 0.0, 1.0,
+             "nodes lighter than this fraction of the smallest particle mass get no acceleration");
+  s.add_vec3("solver.gravity", Eigen::Vector3d::Zero(), "m/s^2", -kBig, kBig, "uniform gravitational acceleration");
+  s.add_bool("solver.artificial_viscosity.enabled", false, "bulk artificial viscosity (linear + quadratic), for shocks");
+  s.add_real("solver.artificial_viscosity.a1", 0.2, "1", 0.0, 10.0, "linear coefficient A1");
+  s.add_real("solver.artificial_viscosity.a2", 2.0, "1", 0.0, 10.0, "quadratic coefficient A2");
+  s.add_int("solver.reorder_every", 25, 0, 1000000, "steps between particle re-sorting for locality (0 = never)");
+  for (const char* f : {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"})
+    s.add_choice(std::string("boundary.") + f, std::string("free"), {"free", "fixed", "symmetry"},
+                 std::string("condition on the domain face ") + f);
+
+  s.add_real("time.end", std::nullopt, "s", 0.0, kBig, "end time", true);
+  s.add_real("time.dt_max", 1e30, "s", 0.0, kBig, "upper bound on dt (the CFL limit always applies)", true);
+  s.add_int("time.max_steps", 0, 0, std::numeric_limits<int>::max(), "stop after this many steps (0 = no limit)");
+
+  s.add_string("output.directory", std::string("out"), "output directory (created)");
+  s.add_string("output.prefix", std::string("mpm"), "file name prefix");
+  s.add_real("output.snapshot_interval", 0.0, "s", 0.0, kBig, "time between particle snapshots (0: initial and final only)");
+  s.add_int("output.series_every", 10, 1, 1000000000, "steps between rows of the time-series CSV");
+
+  s.add_int("run.seed", 0, 0, std::numeric_limits<long long>::max(), "random seed (keyed per particle id)");
+  s.add_int("run.backup_every", 20, 1, 1000000000, "steps between copies of the last good state (saved on failure)");
+  s.add_real("run.progress_interval", 10.0, "s", 0.0, kBig, "wall-clock seconds between progress lines");
+  s.add_int("run.threads", 0, 0, 4096, "OpenMP threads (0 = OMP_NUM_THREADS / all)");
+
+  common::Schema& m = s.add_table_array("material", "materials (one per [[material]])", 1);
+  m.add_string("name", std::nullopt, "name referenced by bodies");
+  m.add_choice("model", std::nullopt, reg.names(), "material style");
+  m.add_real("density", std::nullopt, "kg/m^3", 0.0, kBig, "reference density rho0", true);
+  m.add_style_switch("model", reg.schemas());
+
+  common::Schema& b = s.add_table_array("body", "bodies (one per [[body]])", 1);
+  b.add_string("name", std::string(""), "label (for messages)");
+  b.add_string("material", std::nullopt, "name of a [[material]]");
+  b.add_choice("shape", std::nullopt, {"sphere", "box", "cylinder"}, "primitive");
+  b.add_vec3("velocity", Eigen::Vector3d::Zero(), "m/s", -kBig, kBig, "initial velocity");
+  b.add_vec3("angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -kBig, kBig,
+             "initial rigid rotation about the primitive centre");
+  b.add_int("ppc", 2, 1, 8, "particles per cell per axis");
+  b.add_style_switch("shape", {{"sphere", body_shapes_sphere()}, {"box", body_shapes_box()}, {"cylinder", body_shapes_cylinder()}});
+  return s;
+}
+
+Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
+  Setup st;
+  SolverConfig& c = st.solver;
+  c.shape = parse_shape_kind(sc.string("solver.shape"));
+  c.scheme = parse_scheme(sc.string("solver.scheme"));
+  c.flip = sc.real("solver.flip");
+  c.courant = sc.real("solver.courant");
+  c.min_mass_fraction = sc.real("solver.min_mass_fraction");
+  c.gravity = sc.vec3("solver.gravity");
+  c.artificial_viscosity = sc.boolean("solver.artificial_viscosity.enabled");
+  c.av_a1 = sc.real("solver.artificial_viscosity.a1");
+  c.av_a2 = sc.real("solver.artificial_viscosity.a2");
+  c.reorder_every = static_cast<int>(sc.integer("solver.reorder_every"));
+  c.dt_max = sc.real("time.dt_max");
+  c.ghost_layers = static_cast<int>(sc.integer("grid.ghost_layers"));
+  c.seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
+  const char* faces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
+  for (int f = 0; f < 6; ++f) c.boundary[f] = parse_boundary(sc.string(std::string("boundary.") + faces[f]));
+
+  RunConfig& r = st.run;
+  r.t_end = sc.real("time.end");
+  r.max_steps = sc.integer("time.max_steps");
+  r.out_dir = sc.string("output.directory");
+  r.prefix = sc.string("output.prefix");
+  r.snapshot_interval = sc.real("output.snapshot_interval");
+  r.series_every = static_cast<int>(sc.integer("output.series_every"));
+  r.backup_every = static_cast<int>(sc.integer("run.backup_every"));
+  r.progress_interval = sc.real("run.progress_interval");
+  r.threads = static_cast<int>(sc.integer("run.threads"));
+
+  const Eigen::Vector3d lo = sc.vec3("grid.domain_min"), hi = sc.vec3("grid.domain_max");
+  const double h = sc.real("grid.cell_size");
+  if (!((hi - lo).minCoeff() > 0)) throw common::InputError(sc.source(), "grid.domain_max", "must exceed grid.domain_min in every axis");
+  if (((hi - lo) / h).maxCoeff() > 4096) throw common::InputError(sc.source(), "grid.cell_size", "more than 4096 cells per axis");
+  st.grid = make_grid(lo, hi, h, c.ghost_layers);
+  const Eigen::Vector3d dom_hi = st.grid.origin + (st.grid.shape.cast<double>() - Eigen::Vector3d::Constant(1 + c.ghost_layers)) * h;
+
+  // materials
+  const std::size_t nm = sc.count("material");
+  std::vector<std::string> mat_names;
+  std::vector<MaterialSlot> slots(nm);
+  for (std::size_t i = 0; i < nm; ++i) {
+    const common::Scene e = sc.element("material", i);
+    const std::string name = e.string("name");
+    for (const auto& n : mat_names)
+      if (n == name) throw common::InputError(sc.source(), "material[" + std::to_string(i) + "].name", "duplicate material name '" + name + "'");
+    mat_names.push_back(name);
+    const StyleInfo* style = reg.find(e.string("model"));
+    if (!style) throw common::InputError(sc.source(), "material[" + std::to_string(i) + "].model", "unknown model");
+    slots[i].name = name;
+    slots[i].style = style;
+    try {
+      slots[i].model = style->create(e);
+    } catch (const std::invalid_argument& ex) {
+      throw common::InputError(sc.source(), "material[" + std::to_string(i) + "]", ex.what());
+    }
+  }
+
+  // bodies -> particles (generation order = id order), then grouped by material
+  struct Gen {
+    Eigen::Vector3d x, v;
+    double V, m, lp;
+    int mat;
+  };
+  std::vector<Gen> gen;
+  std::vector<Primitive> prims;
+  const std::size_t nb = sc.count("body");
+  for (std::size_t i = 0; i < nb; ++i) {
+    const common::Scene b = sc.element("body", i);
+    const std::string where = sc.source() + ": body[" + std::to_string(i) + "]";
+    int mat = -1;
+    for (std::size_t k = 0; k < nm; ++k)
+      if (mat_names[k] == b.string("material")) mat = static_cast<int>(k);
+    if (mat < 0) throw common::InputError(where, "material", "no [[material]] named '" + b.string("material") + "'");
+    const Primitive pr = make_primitive(b, where);
+    if ((pr.lo.array() < lo.array()).any() || (pr.hi.array() > dom_hi.array()).any())
+      throw common::InputError(where, "", "body extends outside the domain [grid.domain_min, grid.domain_max]");
+    const int ppc = static_cast<int>(b.integer("ppc"));
+    const double dx = h / ppc, V = dx * dx * dx, rho = slots[mat].model->density();
+    const Eigen::Vector3d v0 = b.vec3("velocity"), w = b.vec3("angular_velocity");
+    Eigen::Vector3i c0, c1;
+    for (int d = 0; d < 3; ++d) {
+      c0[d] = static_cast<int>(std::floor((pr.lo[d] - lo[d]) / h)) - 1;
+      c1[d] = static_cast<int>(std::ceil((pr.hi[d] - lo[d]) / h)) + 1;
+    }
+    std::size_t count = 0;
+    for (int k = c0[2] * ppc; k < c1[2] * ppc; ++k)
+      for (int j = c0[1] * ppc; j < c1[1] * ppc; ++j)
+        for (int ii = c0[0] * ppc; ii < c1[0] * ppc; ++ii) {
+          const Eigen::Vector3d x = lo + dx * Eigen::Vector3d(ii + 0.5, j + 0.5, k + 0.5);
+          if (!pr.inside(x)) continue;
+          for (std::size_t q = 0; q < prims.size(); ++q)
+            if (prims[q].inside(x))
+              throw common::InputError(where, "", "body overlaps body[" + std::to_string(q) + "]");
+          gen.push_back({x, v0 + w.cross(x - pr.center), V, rho * V, 0.5 * dx, mat});
+          ++count;
+        }
+    if (count == 0) throw common::InputError(where, "", "body contains no particle (smaller than a particle spacing?)");
+    prims.push_back(pr);
+  }
+  ParticleSet& ps = st.particles;
+  ps.resize(gen.size(), c.artificial_viscosity);
+  std::size_t p = 0;
+  for (std::size_t m = 0; m < nm; ++m) {
+    slots[m].begin = p;
+    for (std::size_t g = 0; g < gen.size(); ++g) {
+      if (gen[g].mat != static_cast<int>(m)) continue;
+      ps.id[p] = g;
+      ps.material[p] = static_cast<std::int32_t>(m);
+      for (int d = 0; d < 3; ++d) {
+        ps.x[3 * p + d] = gen[g].x[d];
+        ps.v[3 * p + d] = gen[g].v[d];
+        ps.half_width[3 * p + d] = gen[g].lp;
+      }
+      ps.mass[p] = gen[g].m;
+      ps.volume0[p] = ps.volume[p] = gen[g].V;
+      ++p;
+    }
+    slots[m].end = p;
+  }
+  // drop unused materials? keep them (empty ranges) so indices match the scene order.
+  for (auto& s : slots) s.allocate_state();
+  st.materials = std::move(slots);
+  return st;
+}
+
+}  // namespace mpmfrag
