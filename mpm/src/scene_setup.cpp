@@ -208,7 +208,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
       if (mat_names[k] == b.string("material")) mat = static_cast<int>(k);
     if (mat < 0) throw common::InputError(where, "material", "no [[material]] named '" + b.string("material") + "'");
     const Primitive pr = make_primitive(b, where);
-    if ((pr.lo.array() < lo.array()).any() || (pr.hi.array() > dom_hi.array()).any())
+    if ((pr.lo.array() < lo.array() - 1e-9 * h).any() || (pr.hi.array() > dom_hi.array() + 1e-9 * h).any())
       throw common::InputError(where, "", "body extends outside the domain [grid.domain_min, grid.domain_max]");
     const int ppc = static_cast<int>(b.integer("ppc"));
     const double dx = h / ppc, V = dx * dx * dx, rho = slots[mat].model->density();
