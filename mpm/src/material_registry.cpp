@@ -52,21 +52,28 @@ const MaterialRegistry& builtin_materials() {
 }
 
 void rotate_stress_hughes_winget(double* v, const double* L, double dt) {
-  using M3 = Eigen::Matrix3d;
-  const Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> Lm(L);
-  const M3 W = 0.5 * (Lm - Lm.transpose()) * dt;
-  if (W.cwiseAbs().maxCoeff() == 0.0) return;
-  const M3 I = M3::Identity();
-  const M3 R = (I - 0.5 * W).inverse() * (I + 0.5 * W);
-  M3 s;
-  s << v[0], v[5], v[4], v[5], v[1], v[3], v[4], v[3], v[2];
-  const M3 r = R * s * R.transpose();
-  v[0] = r(0, 0);
-  v[1] = r(1, 1);
-  v[2] = r(2, 2);
-  v[3] = 0.5 * (r(1, 2) + r(2, 1));
-  v[4] = 0.5 * (r(0, 2) + r(2, 0));
-  v[5] = 0.5 * (r(0, 1) + r(1, 0));
+  // A = W dt / 2 with W = (L - L^T)/2; axial vector a: A x = a x x, so A = [[0,-a2,a1],[a2,0,-a0],[-a1,a0,0]].
+  const double a0 = 0.25 * dt * (L[7] - L[5]);  // A(2,1) = (L21 - L12) dt / 4
+  const double a1 = 0.25 * dt * (L[2] - L[6]);  // A(0,2)
+  const double a2 = 0.25 * dt * (L[3] - L[1]);  // A(1,0)
+  const double t2 = a0 * a0 + a1 * a1 + a2 * a2;
+  if (t2 == 0.0) return;
+  // Cayley transform: R = (I - A)^{-1} (I + A) = I + 2/(1 + |a|^2) (A + A^2), A^2 = a a^T - |a|^2 I
+  const double c = 2.0 / (1.0 + t2);
+  double R[9] = {1 + c * (a0 * a0 - t2), c * (-a2 + a0 * a1), c * (a1 + a0 * a2),
+                 c * (a2 + a1 * a0), 1 + c * (a1 * a1 - t2), c * (-a0 + a1 * a2),
+                 c * (-a1 + a2 * a0), c * (a0 + a2 * a1), 1 + c * (a2 * a2 - t2)};
+  const double S[9] = {v[0], v[5], v[4], v[5], v[1], v[3], v[4], v[3], v[2]};
+  double T[9];  // T = R S
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) T[3 * i + j] = R[3 * i] * S[j] + R[3 * i + 1] * S[3 + j] + R[3 * i + 2] * S[6 + j];
+  auto rs = [&](int i, int j) { return T[3 * i] * R[3 * j] + T[3 * i + 1] * R[3 * j + 1] + T[3 * i + 2] * R[3 * j + 2]; };
+  v[0] = rs(0, 0);
+  v[1] = rs(1, 1);
+  v[2] = rs(2, 2);
+  v[3] = rs(1, 2);
+  v[4] = rs(0, 2);
+  v[5] = rs(0, 1);
 }
 
 }  // namespace mpmfrag

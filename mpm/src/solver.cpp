@@ -382,8 +382,8 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
   }
 }
 
-template <int NPA>
-void Solver::g2p(double dt, int flags, int lslot) {
+template <int NPA, int flags, int lslot>
+void Solver::g2p(double dt) {
   const ShapeKind kind = cfg_.shape;
   const int sx = grid_.shape[0], sy = grid_.shape[1];
   const Eigen::Vector3d o = grid_.origin, h = grid_.cell_size;
@@ -418,13 +418,17 @@ void Solver::g2p(double dt, int flags, int lslot) {
             for (int a = 0; a < NPA; ++a) {
               const Node& nd = row[a];
               const double W = X.w[a] * wyz;
-              vs0 += W * nd.f[0];
-              vs1 += W * nd.f[1];
-              vs2 += W * nd.f[2];
-              vo0 += W * nd.p[0];
-              vo1 += W * nd.p[1];
-              vo2 += W * nd.p[2];
-              if (flags & kGrad) {
+              if constexpr ((flags & (kVel | kPos)) != 0) {
+                vs0 += W * nd.f[0];
+                vs1 += W * nd.f[1];
+                vs2 += W * nd.f[2];
+              }
+              if constexpr ((flags & kVel) != 0) {
+                vo0 += W * nd.p[0];
+                vo1 += W * nd.p[1];
+                vo2 += W * nd.p[2];
+              }
+              if constexpr ((flags & kGrad) != 0) {
                 const double g0 = X.dw[a] * wyz, g1 = X.w[a] * dyz, g2 = X.w[a] * ydz;
                 const double* vl = lslot == 1 ? nd.p : nd.f;
                 L00 += vl[0] * g0; L01 += vl[0] * g1; L02 += vl[0] * g2;
@@ -434,24 +438,24 @@ void Solver::g2p(double dt, int flags, int lslot) {
             }
           }
         }
-        if (flags & kVel) {
+        if constexpr ((flags & kVel) != 0) {
           vp[0] = alpha * (vp[0] + vs0 - vo0) + (1.0 - alpha) * vs0;
           vp[1] = alpha * (vp[1] + vs1 - vo1) + (1.0 - alpha) * vs1;
           vp[2] = alpha * (vp[2] + vs2 - vo2) + (1.0 - alpha) * vs2;
         }
-        if (flags & kPos) {
+        if constexpr ((flags & kPos) != 0) {
           xp[0] += dt * vs0;
           xp[1] += dt * vs1;
           xp[2] += dt * vs2;
         }
-        if ((flags & (kVel | kPos)) && !std::isfinite(vp[0] + vp[1] + vp[2] + xp[0] + xp[1] + xp[2])) {
+        if ((flags & (kVel | kPos)) != 0 && !std::isfinite(vp[0] + vp[1] + vp[2] + xp[0] + xp[1] + xp[2])) {
           if (!fails++ && chunk_msg_[c].empty()) {
             std::ostringstream os;
             os << "non-finite velocity/position at particle id " << ps_.id[p];
             chunk_msg_[c] = os.str();
           }
         }
-        if (flags & kGrad) {
+        if constexpr ((flags & kGrad) != 0) {
           double* l = Lb.data() + 9 * (p - ch.begin);
           l[0] = L00; l[1] = L01; l[2] = L02; l[3] = L10; l[4] = L11; l[5] = L12; l[6] = L20; l[7] = L21; l[8] = L22;
           double* F = ps_.F.data() + 9 * p;
@@ -473,7 +477,7 @@ void Solver::g2p(double dt, int flags, int lslot) {
         }
       }
       chunk_fail_[c] += fails;
-      if ((flags & kGrad) && fails == 0) run_material_chunk(c, dt, Lb.data(), wpre.data(), ws.data(), bs.data());
+      if ((flags & kGrad) != 0 && fails == 0) run_material_chunk(c, dt, Lb.data(), wpre.data(), ws.data(), bs.data());
     }
   }
   std::size_t total = 0, first = nch;
@@ -488,7 +492,7 @@ void Solver::g2p(double dt, int flags, int lslot) {
     std::fill(chunk_msg_.begin(), chunk_msg_.end(), std::string());
     throw SolverFailure(os.str(), false);
   }
-  if (flags & kGrad) max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
+  if ((flags & kGrad) != 0) max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
 }
 
 // ------------------------------------------------------------------------------------------
@@ -529,7 +533,11 @@ void Solver::step(double dt) {
     constexpr int M = decltype(mode)::value;
     lin ? scatter<2, M>() : scatter<3, M>();
   };
-  auto gather = [&](int flags, int lslot) { lin ? g2p<2>(dt, flags, lslot) : g2p<3>(dt, flags, lslot); };
+  auto gather = [&](auto fl, auto ls) {
+    constexpr int FL = decltype(fl)::value, LS = decltype(ls)::value;
+    lin ? g2p<2, FL, LS>(dt) : g2p<3, FL, LS>(dt);
+  };
+  using std::integral_constant;
   switch (cfg_.scheme) {
     case Scheme::usl:
       scat(std::integral_constant<int, kMass | kMom | kForce>{});
@@ -537,7 +545,7 @@ void Solver::step(double dt) {
       apply_bc(1);
       grid_integrate(dt);
       apply_bc(4);
-      gather(kVel | kPos | kGrad, 4);
+      gather(integral_constant<int, kVel | kPos | kGrad>{}, integral_constant<int, 4>{});
       break;
     case Scheme::musl: {
       scat(std::integral_constant<int, kMass | kMom | kForce>{});
@@ -545,7 +553,7 @@ void Solver::step(double dt) {
       apply_bc(1);
       grid_integrate(dt);
       apply_bc(4);
-      gather(kVel, 4);
+      gather(integral_constant<int, kVel>{}, integral_constant<int, 4>{});
       Node* nodes = nodes_.data();
       const std::size_t nn = nodes_.size();
 #pragma omp parallel for schedule(static)
@@ -553,18 +561,18 @@ void Solver::step(double dt) {
       scat(std::integral_constant<int, kMom>{});
       grid_velocity();
       apply_bc(1);
-      gather(kPos | kGrad, 1);
+      gather(integral_constant<int, kPos | kGrad>{}, integral_constant<int, 1>{});
       break;
     }
     case Scheme::usf:
       scat(std::integral_constant<int, kMass | kMom>{});
       grid_velocity();
       apply_bc(1);
-      gather(kGrad, 1);
+      gather(integral_constant<int, kGrad>{}, integral_constant<int, 1>{});
       scat(std::integral_constant<int, kForce>{});
       grid_integrate(dt);
       apply_bc(4);
-      gather(kVel | kPos, 4);
+      gather(integral_constant<int, kVel | kPos>{}, integral_constant<int, 4>{});
       break;
   }
   time_ += dt;

@@ -154,7 +154,7 @@ class Solver {
   void grid_velocity();
   void grid_integrate(double dt);
   void apply_bc(int slot);
-  template <int NPA> void g2p(double dt, int flags, int lslot);
+  template <int NPA, int flags, int lslot> void g2p(double dt);
   void reorder();
   void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs);
 
