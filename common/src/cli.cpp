@@ -23,6 +23,12 @@ ToolApp::ToolApp(std::string tool, std::string description, Schema schema, bool 
   app_.add_flag("--verbose,-v", verbose_, "Debug output");
 }
 
+void ToolApp::add_scene_flag(const std::string& flag, const std::string& key, const std::string& help) {
+  auto value = std::make_shared<std::string>();
+  CLI::Option* opt = app_.add_option(flag, *value, help + " (scene key " + key + ")");
+  scene_flags_.push_back({key, value, opt});
+}
+
 int ToolApp::run(int argc, char** argv, const Body& body) {
   try {
     app_.parse(argc, argv);
@@ -42,14 +48,29 @@ int ToolApp::run(int argc, char** argv, const Body& body) {
     std::cout << schema_.help_text();
     return 0;
   }
+  std::vector<std::string> overrides;
+  for (const auto& f : scene_flags_) {
+    if (f.option->count() == 0) continue;
+    // String and choice keys are quoted (file names stay strings); others are TOML values.
+    const ParamSpec* spec = schema_.find(f.key);
+    const bool quote = spec && (spec->type == ParamType::string || spec->type == ParamType::choice);
+    std::string v = *f.value;
+    if (quote) {
+      std::string q = "\"";
+      for (char c : v) q += (c == '"' || c == '\\') ? std::string("\\") + c : std::string(1, c);
+      v = q + "\"";
+    }
+    overrides.push_back(f.key + "=" + v);
+  }
+  overrides.insert(overrides.end(), sets_.begin(), sets_.end());
   setup_logging(quiet_, verbose_);
   h5::quiet_errors();
   try {
     if (scene_path_.empty() && scene_required_ && !print_scene_) {
       throw InputError("", "--scene", "a scene file is required (see --help-params for its keys)");
     }
-    Scene scene = scene_path_.empty() ? Scene::parse(schema_, "", "<defaults>", sets_)
-                                      : Scene::load(schema_, scene_path_, sets_);
+    Scene scene = scene_path_.empty() ? Scene::parse(schema_, "", "<command line>", overrides)
+                                      : Scene::load(schema_, scene_path_, overrides);
     if (print_scene_) {
       std::cout << scene.to_toml();
       return 0;

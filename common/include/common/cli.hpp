@@ -7,6 +7,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,9 @@ class ToolApp {
 
   /// Add tool-specific flags here before run().
   CLI::App& cli() { return app_; }
+  /// A convenience flag that sets a scene key: `--flag V` is `--set key=V` (explicit --set
+  /// options given on the same command line win). The value is taken as TOML, or as a string.
+  void add_scene_flag(const std::string& flag, const std::string& key, const std::string& help);
   const Schema& schema() const { return schema_; }
 
   using Body = std::function<int(const Scene& scene, const Provenance& prov)>;
@@ -36,6 +40,12 @@ class ToolApp {
   CLI::App app_;
   std::string scene_path_;
   std::vector<std::string> sets_;
+  struct SceneFlag {
+    std::string key;
+    std::shared_ptr<std::string> value;
+    CLI::Option* option;
+  };
+  std::vector<SceneFlag> scene_flags_;
   bool help_params_ = false, print_scene_ = false, version_ = false;
   bool quiet_ = false, verbose_ = false;
 };

@@ -1,0 +1,27 @@
+/// @file handoff_scene.hpp
+/// Parameter schema of mpm2spheres and the options it resolves to.
+#pragma once
+#include <string>
+
+#include "common/schema.hpp"
+#include "handoff/projection.hpp"
+#include "handoff/selection.hpp"
+
+namespace handoff {
+
+/// The one schema: validates scene files, prints --help-params.
+common::Schema handoff_schema();
+
+struct HandoffConfig {
+  std::string input, output, audit_json, ss_path, ss_units;
+  std::string method;  ///< "paper" or "conserving"
+  ProjectionOptions projection;
+  SelectionRules select;
+  double max_energy_loss = 1.0;  ///< relative KE loss above which the tool fails (exit 3)
+  int ss_color = 3;
+  bool carry_given = false;      ///< the user listed fields explicitly (missing ones are errors)
+};
+
+HandoffConfig handoff_config(const common::Scene& scene);
+
+}  // namespace handoff

@@ -1,0 +1,197 @@
+#include "handoff/projection.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/status.hpp"
+
+namespace handoff {
+
+namespace {
+
+struct CoarseGrid {
+  Eigen::Vector3i shape;  // sphere cells per axis
+  double edge;            // sphere cell edge
+  Eigen::Vector3d origin;
+  std::int64_t cells() const { return std::int64_t(shape[0]) * shape[1] * shape[2]; }
+  std::int64_t key(const Eigen::Vector3i& c) const { return c[0] + std::int64_t(shape[0]) * (c[1] + std::int64_t(shape[1]) * c[2]); }
+};
+
+std::string where_particle(const common::ParticleSnapshot& s, std::size_t p) {
+  std::ostringstream o;
+  o.precision(9);
+  o << "particle id " << s.id[p] << " at (" << s.position[3 * p] << ", " << s.position[3 * p + 1] << ", "
+    << s.position[3 * p + 2] << ")";
+  return o.str();
+}
+
+}  // namespace
+
+ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const ProjectionOptions& opt,
+                                    const std::string& file) {
+  const std::size_t n = s.count();
+  if (n == 0) throw common::InputError(file, "/particles", "no particles to hand off");
+  const common::GridInfo& g = s.grid;
+  const double h = g.cell_size[0];
+  if (std::fabs(g.cell_size[1] - h) > 1e-12 * h || std::fabs(g.cell_size[2] - h) > 1e-12 * h)
+    throw common::InputError(file, "/grid/cell_size", "spheres need cubic cells (equal cell_size entries)");
+  if (opt.coarsen < 1) throw common::InputError(file, "coarsen", "must be >= 1");
+  const int k = opt.coarsen;
+
+  CoarseGrid cg;
+  cg.edge = k * h;
+  cg.origin = g.origin;
+  for (int d = 0; d < 3; ++d) cg.shape[d] = (g.shape[d] - 1 + k - 1) / k;
+
+  // Carried fields (scalar only).
+  std::vector<const common::Field*> carry;
+  for (const auto& name : opt.carry_fields) {
+    const common::Field* f = s.field(name);
+    if (!f) throw common::InputError(file, "/particles/" + name, "field to carry onto spheres is missing");
+    if (f->ncomp != 1) throw common::InputError(file, "/particles/" + name, "only scalar fields can be carried");
+    carry.push_back(f);
+  }
+
+  // 1. Validate and bin particles by sphere cell (counting sort, stable => deterministic).
+  std::vector<std::int64_t> key(n);
+  std::vector<std::int64_t> fine_key(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
+    const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
+    if ((lp.array() > 0.5 * h * (1 + 1e-12)).any())
+      throw common::InputError(file, "/particles/size", where_particle(s, p) + ": particle size exceeds the cell size " + std::to_string(h) + " m");
+    const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
+    if (!mpmfrag::stencil_inside(g, st))
+      throw common::InputError(file, "/particles/position", where_particle(s, p) + " lies outside the grid (its shape-function support leaves it)");
+    Eigen::Vector3i c, f;
+    for (int d = 0; d < 3; ++d) {
+      const int fi = std::clamp(static_cast<int>(std::floor((x[d] - g.origin[d]) / h)), 0, g.shape[d] - 2);
+      f[d] = fi;
+      c[d] = fi / k;
+    }
+    key[p] = cg.key(c);
+    fine_key[p] = f[0] + std::int64_t(g.shape[0] - 1) * (f[1] + std::int64_t(g.shape[1] - 1) * f[2]);
+  }
+  std::vector<std::size_t> start(static_cast<std::size_t>(cg.cells()) + 1, 0);
+  for (std::size_t p = 0; p < n; ++p) ++start[key[p] + 1];
+  for (std::size_t c = 0; c + 1 < start.size(); ++c) start[c + 1] += start[c];
+  std::vector<std::size_t> order(n);
+  {
+    std::vector<std::size_t> fill(start.begin(), start.end() - 1);
+    for (std::size_t p = 0; p < n; ++p) order[fill[key[p]]++] = p;
+  }
+
+  // 2. P2G, parallel over slabs of sphere-cell z layers, two colours so that no two threads
+  //    touch the same node; sums run in sorted order, so results do not depend on threads.
+  const std::size_t nn = mpmfrag::node_count(g);
+  std::vector<double> node(4 * nn, 0.0);  // m, px, py, pz
+  const int layers_per_slab = (3 + k - 1) / k;
+  const std::int64_t layer_cells = std::int64_t(cg.shape[0]) * cg.shape[1];
+  const int nslab = (cg.shape[2] + layers_per_slab - 1) / layers_per_slab;
+  auto slab_range = [&](int sl) {
+    const std::int64_t z0 = std::int64_t(sl) * layers_per_slab;
+    const std::int64_t z1 = std::min<std::int64_t>(z0 + layers_per_slab, cg.shape[2]);
+    return std::pair<std::size_t, std::size_t>(start[z0 * layer_cells], start[z1 * layer_cells]);
+  };
+  for (int colour = 0; colour < 2; ++colour) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (int sl = colour; sl < nslab; sl += 2) {
+      const auto [b, e] = slab_range(sl);
+      for (std::size_t q = b; q < e; ++q) {
+        const std::size_t p = order[q];
+        const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
+        const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
+        const double m = s.mass[p];
+        const double* v = &s.velocity[3 * p];
+        const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
+        mpmfrag::for_each_node(st, [&](int i, int j, int kk, double w, const Eigen::Vector3d&) {
+          if (w == 0.0) return;
+          double* nd = &node[4 * mpmfrag::node_index(g, i, j, kk)];
+          const double mw = m * w;
+          nd[0] += mw;
+          nd[1] += mw * v[0];
+          nd[2] += mw * v[1];
+          nd[3] += mw * v[2];
+        });
+      }
+    }
+  }
+  // Nodal velocities in place.
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(nn); ++i) {
+    double* nd = &node[4 * i];
+    if (nd[0] > 0.0) {
+      nd[1] /= nd[0];
+      nd[2] /= nd[0];
+      nd[3] /= nd[0];
+    }
+  }
+
+  // 3. One sphere per occupied cell: G2P at the cell's particles, mass-weighted average.
+  ProjectionResult r;
+  r.cell_shape = cg.shape;
+  r.sphere_cell = cg.edge;
+  std::vector<std::int64_t> cells;
+  for (std::int64_t c = 0; c < cg.cells(); ++c)
+    if (start[c + 1] > start[c]) cells.push_back(c);
+  const std::size_t ns = cells.size();
+  common::SphereSet& out = r.spheres;
+  out.time = s.time;
+  out.step = s.step;
+  out.id.resize(ns);
+  out.position.resize(3 * ns);
+  out.velocity.resize(3 * ns);
+  out.spin.assign(3 * ns, 0.0);
+  out.mass.resize(ns);
+  out.radius.assign(ns, 0.5 * cg.edge);
+  for (const auto* f : carry) out.fields.push_back({f->name, f->unit, 1, std::vector<double>(ns), "mass-weighted mean over the sphere's particles"});
+  r.cell = cells;
+  r.map.offset.resize(ns + 1);
+  r.map.particle_id.resize(n);
+
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::int64_t si = 0; si < static_cast<std::int64_t>(ns); ++si) {
+    const std::int64_t c = cells[si];
+    double M = 0.0, P[3] = {0, 0, 0};
+    std::vector<double> fsum(carry.size(), 0.0);
+    for (std::size_t q = start[c]; q < start[c + 1]; ++q) {
+      const std::size_t p = order[q];
+      const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
+      const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
+      const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
+      double vt[3] = {0, 0, 0};
+      mpmfrag::for_each_node(st, [&](int i, int j, int kk, double w, const Eigen::Vector3d&) {
+        if (w == 0.0) return;
+        const double* nd = &node[4 * mpmfrag::node_index(g, i, j, kk)];
+        vt[0] += w * nd[1];
+        vt[1] += w * nd[2];
+        vt[2] += w * nd[3];
+      });
+      const double m = s.mass[p];
+      M += m;
+      for (int d = 0; d < 3; ++d) P[d] += m * vt[d];
+      for (std::size_t f = 0; f < carry.size(); ++f) fsum[f] += m * carry[f]->values[p];
+      r.map.particle_id[q] = s.id[p];
+    }
+    const std::int64_t cx = c % cg.shape[0], cy = (c / cg.shape[0]) % cg.shape[1], cz = c / (std::int64_t(cg.shape[0]) * cg.shape[1]);
+    const std::int64_t idx[3] = {cx, cy, cz};
+    out.id[si] = static_cast<std::uint64_t>(si);
+    out.mass[si] = M;
+    for (int d = 0; d < 3; ++d) {
+      out.position[3 * si + d] = cg.origin[d] + (idx[d] + 0.5) * cg.edge;
+      out.velocity[3 * si + d] = P[d] / M;
+    }
+    for (std::size_t f = 0; f < carry.size(); ++f) out.fields[f].values[si] = fsum[f] / M;
+    r.map.offset[si] = start[c];
+  }
+  r.map.offset[ns] = n;
+
+  std::sort(fine_key.begin(), fine_key.end());
+  r.occupied_mpm_cells = static_cast<std::size_t>(std::unique(fine_key.begin(), fine_key.end()) - fine_key.begin());
+  return r;
+}
+
+}  // namespace handoff

@@ -1,0 +1,105 @@
+#include "handoff/run_handoff.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+
+#include "common/atomic_file.hpp"
+#include "common/h5.hpp"
+#include "common/status.hpp"
+#include "handoff/conserving.hpp"
+#include "handoff/ss_format.hpp"
+
+namespace handoff {
+
+namespace {
+Invariants invariants_of(const common::ParticleSnapshot& s, const std::vector<std::size_t>& idx) {
+  std::vector<double> x, v, m;
+  x.reserve(3 * idx.size());
+  v.reserve(3 * idx.size());
+  m.reserve(idx.size());
+  for (std::size_t i : idx) {
+    for (int d = 0; d < 3; ++d) {
+      x.push_back(s.position[3 * i + d]);
+      v.push_back(s.velocity[3 * i + d]);
+    }
+    m.push_back(s.mass[i]);
+  }
+  return compute_invariants(idx.size(), x.data(), v.data(), m.data());
+}
+}  // namespace
+
+HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfig& cfg_in) {
+  HandoffConfig cfg = cfg_in;
+  if (!cfg.carry_given) {  // default carry list: skip fields the snapshot does not have
+    std::vector<std::string> present;
+    for (const auto& f : cfg.projection.carry_fields)
+      if (snap.field(f)) present.push_back(f);
+    cfg.projection.carry_fields = present;
+  }
+  HandoffOutcome out;
+  Audit& a = out.audit;
+  a.method = cfg.method;
+  a.input = compute_invariants(snap.count(), snap.position.data(), snap.velocity.data(), snap.mass.data());
+  const Selection sel = select_particles(snap, cfg.select, cfg.input);
+  a.dropped = invariants_of(snap, sel.dropped);
+  if (sel.kept.empty())
+    throw common::InputError(cfg.input, "select", "the selection rules removed every particle");
+  const common::ParticleSnapshot kept_storage = cfg.select.active() ? subset(snap, sel.kept) : common::ParticleSnapshot{};
+  const common::ParticleSnapshot& kept = cfg.select.active() ? kept_storage : snap;
+  a.before = cfg.select.active() ? invariants_of(snap, sel.kept) : a.input;
+
+  out.result = project_to_spheres(kept, cfg.projection, cfg.input);
+  common::SphereSet& sph = out.result.spheres;
+  if (cfg.method == "conserving") {
+    const ConservingResult cr = apply_conserving(sph, a.before);
+    a.exact = cr.exact;
+    a.note = cr.exact ? "lambda = " + std::to_string(cr.lambda) : cr.note;
+  }
+  a.after = compute_invariants(sph.count(), sph.position.data(), sph.velocity.data(), sph.mass.data(),
+                               sph.spin.data(), sph.radius.data());
+  a.occupied_mpm_cells = out.result.occupied_mpm_cells;
+  a.sphere_cell = out.result.sphere_cell;
+  a.min_gap = min_sphere_gap(out.result);
+  a.max_overlap = std::max(0.0, -a.min_gap);
+  return out;
+}
+
+int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const common::ParticleSnapshot snap = common::read_particle_snapshot(cfg.input);
+  const auto t1 = std::chrono::steady_clock::now();
+  HandoffOutcome out = hand_off(snap, cfg);
+  const auto t2 = std::chrono::steady_clock::now();
+  const Audit& a = out.audit;
+  spdlog::info("{}", audit_text(a));
+  spdlog::info("read {:.3f} s, projection {:.3f} s ({:.2e} particles/s)",
+               std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(),
+               snap.count() / std::max(1e-9, std::chrono::duration<double>(t2 - t1).count()));
+  common::write_text_atomic(cfg.audit_json, audit_json(a));
+  if (a.kinetic_loss_relative() > cfg.max_energy_loss) {
+    throw common::NumericalError("kinetic-energy loss " + std::to_string(100 * a.kinetic_loss_relative()) +
+                                 " % exceeds audit.max_energy_loss = " + std::to_string(100 * cfg.max_energy_loss) +
+                                 " %; no sphere file written (try method = \"conserving\" or a finer grid). Audit: " +
+                                 cfg.audit_json);
+  }
+  const SphereParticleMap& map = out.result.map;
+  common::write_sphere_set(cfg.output, out.result.spheres, prov, [&](long long f) {
+    namespace h5 = common::h5;
+    h5::Handle g = h5::create_group(static_cast<hid_t>(f), "handoff");
+    h5::write_dataset(g, "sphere_particle_offset", map.offset.data(), map.offset.size(), 1, "1");
+    h5::write_dataset(g, "particle_id", map.particle_id.data(), map.particle_id.size(), 1, "1");
+    h5::write_attr(g, "description", std::string("sphere s holds particles particle_id[sphere_particle_offset[s] : "
+                                                 "sphere_particle_offset[s+1]] of the input snapshot"));
+    h5::write_attr(g, "input", cfg.input);
+    h5::write_attr(g, "method", cfg.method);
+    h5::write_attr(g, "coarsen", static_cast<std::int64_t>(cfg.projection.coarsen));
+    write_audit_h5(f, a);
+  });
+  if (!cfg.ss_path.empty())
+    write_ss(cfg.ss_path, out.result.spheres, cfg.ss_units == "si" ? SsUnits::si() : SsUnits::pkdgrav(), cfg.ss_color);
+  spdlog::info("wrote {} spheres to {} (audit {})", out.result.spheres.count(), cfg.output, cfg.audit_json);
+  return 0;
+}
+
+}  // namespace handoff

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages this project needs, only those that are missing.
+# Runs apt-get as root (or through sudo). Safe to run repeatedly.
+set -euo pipefail
+pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libcli11-dev
+      libspdlog-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
+      python3-numpy python3-h5py python3-matplotlib python3-scipy)
+missing=()
+for p in "${pkgs[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#pkgs[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -q
+$SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
