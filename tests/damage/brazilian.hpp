@@ -40,6 +40,7 @@ struct Config {
   double drop = 0.5;           ///< stop when F < drop * F_peak after the peak
   double t_max_factor = 6.0;   ///< stop at t_ramp + factor * (60 MPa / (E eps_dot))
   int progress_every = 0;      ///< print every n steps (0: never)
+  std::string basalt_style = "tonge_ramesh";  ///< or "tillotson" (no damage: cost reference)
 };
 
 struct Sample {
@@ -112,11 +113,18 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
     ps.energy[p] = 0.0;
   }
   static const StyleInfo tr_style = *builtin_materials().find("tonge_ramesh");
+  static const StyleInfo till_style = *builtin_materials().find("tillotson");
+  const bool damage = c.basalt_style == "tonge_ramesh";
   static const StyleInfo el_style = *builtin_materials().find("elastic");
   std::vector<MaterialSlot> mats(2);
   mats[0].name = "basalt";
-  mats[0].style = &tr_style;
-  mats[0].model = make_tonge_ramesh(tp);
+  mats[0].style = damage ? &tr_style : &till_style;
+  if (damage) {
+    mats[0].model = make_tonge_ramesh(tp);
+  } else {
+    TillotsonParams tt;
+    mats[0].model = make_tillotson(tt, tp.G0);
+  }
   mats[0].begin = 0;
   mats[0].end = nd;
   mats[1].name = "platen";
@@ -150,8 +158,8 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
       (P.x[3 * q + 1] > 0 ? Ftop : Fbot) += f;
     }
     double sumD = 0, maxD = 0;
-    const double* Dp = m0.state[0].data();
-    for (std::size_t q = 0; q < m0.end - m0.begin; ++q) {
+    const double* Dp = damage ? m0.state[0].data() : nullptr;
+    for (std::size_t q = 0; Dp && q < m0.end - m0.begin; ++q) {
       sumD += Dp[q];
       maxD = std::max(maxD, Dp[q]);
     }
@@ -171,7 +179,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
       res.snap_x.push_back(float(P.x[3 * q]));
       res.snap_y.push_back(float(P.x[3 * q + 1]));
       res.snap_z.push_back(float(P.x[3 * q + 2]));
-      res.snap_D.push_back(float(m0.state[0][q - m0.begin]));
+      res.snap_D.push_back(damage ? float(m0.state[0][q - m0.begin]) : 0.0f);
     }
   };
   try {
