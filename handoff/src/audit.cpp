@@ -58,7 +58,19 @@ double min_sphere_gap(const ProjectionResult& r) {
   const std::size_t n = s.count();
   double best = std::numeric_limits<double>::infinity();
   const Eigen::Vector3i sh = r.cell_shape;
-  // r.cell is sorted ascending (spheres are emitted in cell order).
+  const std::int64_t ncells = std::int64_t(sh[0]) * sh[1] * sh[2];
+  // Sphere index by cell: a dense table when it is small enough, else binary search in r.cell
+  // (sorted ascending: spheres are emitted in cell order).
+  std::vector<std::int32_t> dense;
+  if (ncells <= (std::int64_t(1) << 27) && n < (std::size_t(1) << 31)) {
+    dense.assign(static_cast<std::size_t>(ncells), -1);
+    for (std::size_t i = 0; i < n; ++i) dense[r.cell[i]] = static_cast<std::int32_t>(i);
+  }
+  auto find = [&](std::int64_t key) -> std::int64_t {
+    if (!dense.empty()) return dense[key];
+    const auto it = std::lower_bound(r.cell.begin(), r.cell.end(), key);
+    return (it == r.cell.end() || *it != key) ? -1 : it - r.cell.begin();
+  };
 #pragma omp parallel for reduction(min : best) schedule(static)
   for (std::int64_t a = 0; a < static_cast<std::int64_t>(n); ++a) {
     const std::int64_t c = r.cell[a];
@@ -71,9 +83,9 @@ double min_sphere_gap(const ProjectionResult& r) {
           if (x < 0 || y < 0 || z < 0 || x >= sh[0] || y >= sh[1] || z >= sh[2]) continue;
           const std::int64_t key = x + std::int64_t(sh[0]) * (y + std::int64_t(sh[1]) * z);
           if (key <= c) continue;  // each pair once
-          const auto it = std::lower_bound(r.cell.begin(), r.cell.end(), key);
-          if (it == r.cell.end() || *it != key) continue;
-          const std::size_t b = static_cast<std::size_t>(it - r.cell.begin());
+          const std::int64_t found = find(key);
+          if (found < 0) continue;
+          const std::size_t b = static_cast<std::size_t>(found);
           const Eigen::Vector3d d = Eigen::Vector3d(&s.position[3 * a]) - Eigen::Vector3d(&s.position[3 * b]);
           best = std::min(best, d.norm() - s.radius[a] - s.radius[b]);
         }

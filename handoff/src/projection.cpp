@@ -20,6 +20,25 @@ struct CoarseGrid {
   std::int64_t key(const Eigen::Vector3i& c) const { return c[0] + std::int64_t(shape[0]) * (c[1] + std::int64_t(shape[1]) * c[2]); }
 };
 
+/// Call f(node_linear_index, weight) for every stencil node with non-zero weight (no gradients:
+/// the hand-off needs weights only).
+template <class F>
+inline void for_each_weight(const mpmfrag::ParticleStencil& st, const common::GridInfo& g, F&& f) {
+  const auto &X = st.axis[0], &Y = st.axis[1], &Z = st.axis[2];
+  const std::size_t sx = 1, sy = static_cast<std::size_t>(g.shape[0]), sz = sy * static_cast<std::size_t>(g.shape[1]);
+  for (int c = 0; c < Z.n; ++c) {
+    if (Z.w[c] == 0.0) continue;
+    const std::size_t zbase = (Z.first + c) * sz;
+    for (int b = 0; b < Y.n; ++b) {
+      const double wyz = Y.w[b] * Z.w[c];
+      if (wyz == 0.0) continue;
+      const std::size_t base = zbase + (Y.first + b) * sy + X.first * sx;
+      for (int a = 0; a < X.n; ++a)
+        if (X.w[a] != 0.0) f(base + a, X.w[a] * wyz);
+    }
+  }
+}
+
 std::string where_particle(const common::ParticleSnapshot& s, std::size_t p) {
   std::ostringstream o;
   o.precision(9);
@@ -63,8 +82,18 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
     const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
     if ((lp.array() > 0.5 * h * (1 + 1e-12)).any())
       throw common::InputError(file, "/particles/size", where_particle(s, p) + ": particle size exceeds the cell size " + std::to_string(h) + " m");
-    const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
-    if (!mpmfrag::stencil_inside(g, st))
+    // Stencil bounds without computing weights: uGIMP uses nodes {i-1, i, i+1} or {i, i+1, i+2}
+    // (shape_functions.hpp), linear {i, i+1}.
+    bool inside = true;
+    for (int d = 0; d < 3; ++d) {
+      const double xi = (x[d] - g.origin[d]) / h;
+      const double fl = std::floor(xi);
+      const int i = static_cast<int>(fl);
+      const int first = opt.shape == mpmfrag::ShapeKind::linear ? i : (xi - fl <= 0.5 ? i - 1 : i);
+      const int count = opt.shape == mpmfrag::ShapeKind::linear ? 2 : 3;
+      inside = inside && std::isfinite(xi) && first >= 0 && first + count <= g.shape[d];
+    }
+    if (!inside)
       throw common::InputError(file, "/particles/position", where_particle(s, p) + " lies outside the grid (its shape-function support leaves it)");
     Eigen::Vector3i c, f;
     for (int d = 0; d < 3; ++d) {
@@ -107,9 +136,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
         const double m = s.mass[p];
         const double* v = &s.velocity[3 * p];
         const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
-        mpmfrag::for_each_node(st, [&](int i, int j, int kk, double w, const Eigen::Vector3d&) {
-          if (w == 0.0) return;
-          double* nd = &node[4 * mpmfrag::node_index(g, i, j, kk)];
+        for_each_weight(st, g, [&](std::size_t ni, double w) {
+          double* nd = &node[4 * ni];
           const double mw = m * w;
           nd[0] += mw;
           nd[1] += mw * v[0];
@@ -163,9 +191,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
       const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
       const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
       double vt[3] = {0, 0, 0};
-      mpmfrag::for_each_node(st, [&](int i, int j, int kk, double w, const Eigen::Vector3d&) {
-        if (w == 0.0) return;
-        const double* nd = &node[4 * mpmfrag::node_index(g, i, j, kk)];
+      for_each_weight(st, g, [&](std::size_t ni, double w) {
+        const double* nd = &node[4 * ni];
         vt[0] += w * nd[1];
         vt[1] += w * nd[2];
         vt[2] += w * nd[3];
