@@ -93,13 +93,12 @@ void Simulation::compute_forces(bool initial) {
     times_.neighbours += t1 - t0;
     times_.contacts += t2 - t1;
   }
-  if (cfg_.self_gravity && (initial || step_ % cfg_.gravity_every == 0)) compute_gravity(false);
+  if (cfg_.self_gravity && initial) compute_gravity(false);
   const Vec3 g = cfg_.uniform_g;
-  const bool sg = cfg_.self_gravity, ct = contacts_ != nullptr;
+  const bool ct = contacts_ != nullptr;
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 a = g;
-    if (sg) a += ag_[i];
     if (ct) {
       a += F_[i] / sp_.m[i];
       alpha_[i] = T_[i] / sp_.inertia(i);
@@ -112,9 +111,14 @@ void Simulation::step() {
   const std::size_t n = sp_.size();
   const double h = cfg_.dt, hh = 0.5 * h;
   const bool spin = contacts_ != nullptr;
+  const bool sg = cfg_.self_gravity;
+  const int k = cfg_.gravity_every;
+  const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
+  const bool open_kick = sg && step_ % k == 0;
   double t0 = omp_get_wtime();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
+    if (open_kick) sp_.v[i] += hk * ag_[i];
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
     sp_.x[i] += h * sp_.v[i];
@@ -123,11 +127,14 @@ void Simulation::step() {
   time_ = static_cast<double>(step_) * h;  // no accumulated round-off; identical on restart
   times_.integrate += omp_get_wtime() - t0;
   compute_forces(false);
+  const bool close_kick = sg && step_ % k == 0;
+  if (close_kick) compute_gravity(false);
   t0 = omp_get_wtime();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
+    if (close_kick) sp_.v[i] += hk * ag_[i];
   }
   times_.integrate += omp_get_wtime() - t0;
   ++times_.steps;
@@ -140,7 +147,7 @@ void Simulation::check_state() {
 #pragma omp parallel for schedule(static) reduction(|| : bad)
   for (std::size_t i = 0; i < n; ++i)
     if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() ||
-        !sp_.w[i].allFinite())
+        !sp_.w[i].allFinite() || !ag_[i].allFinite())
       bad = true;
   if (bad) {
     for (std::size_t i = 0; i < n; ++i)

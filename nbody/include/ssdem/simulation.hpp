@@ -8,10 +8,17 @@
 ///   a_{n+1} = F_c/m + g_self + g_uniform,  alpha_{n+1} = T_c / I,  I = (2/5) m s^2
 ///   v_{n+1} = v_{n+1/2} + (h/2) a_{n+1},  w_{n+1} likewise.
 /// Contact forces use predicted velocities v_{n+1/2} + (h/2) a_n (pkdgrav; ssdem.md §1.1).
-/// Multiple time-stepping for gravity ("gravity.every = k"): the self-gravity acceleration is
-/// recomputed at the new positions every k-th step and held constant in between (zeroth-order
-/// hold). This is not symplectic; its error against k = 1 is measured in the tests and in the
-/// pipeline study (pipelines/nbody), not assumed. k = 1 is plain KDK.
+/// Multiple time-stepping for gravity ("gravity.every = k"): impulse r-RESPA (Tuckerman, Berne &
+/// Martyna 1992, J. Chem. Phys. 97:1990): self-gravity is applied as an outer half-kick
+/// v += (k h/2) g_self at the start and at the end of each block of k contact steps and is
+/// evaluated once per block at the block's end positions; the contact forces and the uniform
+/// field are integrated by the inner KDK above. The scheme is symplectic and time-reversible for
+/// conservative forces (bounded energy error, no drift); k = 1 is plain KDK. Velocities are the
+/// physical ones only at block boundaries (step % k == 0): diagnostics and outputs should be taken
+/// there. Its error against k = 1 is measured (tests, pipelines/nbody), not assumed.
+/// Deviation from pkdgrav: pkdgrav evaluates gravity every step (iMaxRung = 1); predicted
+/// velocities for the dashpots here include the contact/uniform acceleration only (the gravity
+/// impulse is nearly uniform over a contact pair).
 /// A scene enables only its physics: without self-gravity no tree is built; without contacts
 /// no neighbour list exists.
 #pragma once
