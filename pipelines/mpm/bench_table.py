@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Table + plot of the mpm_bench Google Benchmark JSON (medians of the repetitions).
+
+usage: bench_table.py <bench.json> <out_dir>  ->  bench.md, bench.png
+Parallel efficiency = (us/particle-step on 1 thread) / (2 * us/particle-step on 2 threads).
+"""
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def main():
+    data = json.load(open(sys.argv[1]))
+    out = sys.argv[2]
+    os.makedirs(out, exist_ok=True)
+    med = {}
+    for b in data["benchmarks"]:
+        if b.get("aggregate_name", "median") != "median":
+            continue
+        name = b["run_name"].split("/")
+        case, threads = name[0].replace("BM_", ""), int(name[1])
+        med[(case, threads)] = b
+    cases = sorted({c for c, _ in med})
+    lines = ["# mpm-frag benchmark (medians)", "",
+             "| case | particles | bytes/particle | us/particle-step (1 thr) | us/particle-step (2 thr) | per core (2 thr) | efficiency 2 thr |",
+             "|---|---|---|---|---|---|---|"]
+    xs, y1, y2 = [], [], []
+    for c in cases:
+        b1, b2 = med.get((c, 1)), med.get((c, 2))
+        if not b1:
+            continue
+        t1 = b1["us_per_pstep"]
+        t2 = b2["us_per_pstep"] if b2 else float("nan")
+        eff = t1 / (2 * t2) if b2 else float("nan")
+        lines.append("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f %% |" % (
+            c, b1["particles"], b1["bytes_per_particle"], t1, t2, 2 * t2, 100 * eff))
+        xs.append(c)
+        y1.append(t1)
+        y2.append(2 * t2)
+    fig, ax = plt.subplots(figsize=(9, 4))
+    idx = range(len(xs))
+    ax.bar([i - 0.2 for i in idx], y1, 0.4, label="1 thread")
+    ax.bar([i + 0.2 for i in idx], y2, 0.4, label="2 threads (per core)")
+    ax.axhline(0.6, color="k", ls="--", lw=1, label="target 0.6 us (elastic uGIMP)")
+    ax.set_xticks(list(idx))
+    ax.set_xticklabels(xs, rotation=20, fontsize=8)
+    ax.set_ylabel("us per particle-step per core")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "bench.png"), dpi=130)
+    open(os.path.join(out, "bench.md"), "w").write("\n".join(lines) + "\n")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
