@@ -69,10 +69,9 @@ void register_builtin_contact_parts(ContactPartRegistry& reg) {
     i.name = "normal";
     i.flag = 0;
     i.help = "linear normal spring F = -k_n x n (Schwartz+2012 eq. 3)";
-    i.schema.add_real("kn", std::nullopt, "N/m", 0.0, 1e30,
-                      "normal spring constant k_n; see the dt rule (ssdem-grav --help-params, "
-                      "dt_rule.hpp)",
-                      true);
+    i.schema.add_real("kn", 0.0, "N/m", 0.0, 1e30,
+                      "normal spring constant k_n; 0 = from the k_n rule (contact.vmax, "
+                      "contact.overlap_fraction; dt_rule.hpp)");
     i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
       p.kn = s.real(pre + "kn");
     };

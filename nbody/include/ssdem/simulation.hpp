@@ -105,7 +105,10 @@ class Simulation {
   /// Full state for checkpoints.
   SimState state() const;
   /// Keep a verified copy of the state every `every` steps (0: off) for exit-3 saves.
-  void set_keep_last_good(std::int64_t every) { keep_every_ = every; }
+  void set_keep_last_good(std::int64_t every) {
+    keep_every_ = every;
+    if (every > 0 && !last_good_) last_good_ = state();
+  }
   const std::optional<SimState>& last_good() const { return last_good_; }
   /// Bytes per sphere of all arrays (spheres, integrator, contacts, tree).
   double bytes_per_sphere() const;

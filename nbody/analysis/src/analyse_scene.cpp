@@ -1,0 +1,79 @@
+#include "analysis/analyse_scene.hpp"
+
+#include "common/status.hpp"
+
+namespace analysis {
+
+common::Schema analyse_schema() {
+  common::Schema s("ssdem-analyse: clumps, bound mass, largest remnant, beta and damage profiles of ssdem.spheres snapshots");
+  const double inf = std::numeric_limits<double>::infinity();
+  s.add_real("impact.impactor_mass", 0.0, "kg", 0.0, inf, "impactor mass m (0: unknown, beta is not computed)");
+  s.add_vec3("impact.impactor_velocity", Eigen::Vector3d::Zero(), "m/s", -inf, inf,
+             "impactor velocity before impact, simulation frame");
+  s.add_vec3("impact.target_velocity", Eigen::Vector3d::Zero(), "m/s", -inf, inf,
+             "target velocity before impact, simulation frame (beta is evaluated in the target's pre-impact rest frame)");
+  s.add_real("impact.parent_body_mass", 0.0, "kg", 0.0, inf,
+             "parent-body mass M_PB for M_LR/M_PB (0: total mass of the earliest snapshot)");
+  s.add_real("impact.target_radius", 0.0, "m", 0.0, inf, "target radius, recorded for the report (0: unknown)");
+  s.add_real("fof.link_fraction", 0.2, "1", 0.0, 100.0,
+             "surface linking length eps as a fraction of the median sphere radius (0.2 = pkdgrav rpa's L = 1.1 for equal spheres)");
+  s.add_real("fof.link_length", 0.0, "m", 0.0, inf, "absolute surface linking length eps (> 0 overrides link_fraction)");
+  s.add_real("gravity.G", 6.674e-11, "m^3/(kg s^2)", 0.0, inf, "gravitational constant", true);
+  s.add_int("bound.max_iterations", 1000, 1, 1000000, "cap on the bound-mass passes");
+  s.add_string("damage.field", std::string("damage"), "per-item scalar field profiled");
+  s.add_string("damage.mpm_snapshot", std::string(""),
+               "mpm-frag particle snapshot (or ssdem.spheres file) for the end-of-MPM damage profile (empty: none)");
+  s.add_int("damage.bins", 20, 1, 100000, "bins of the profile along the impact axis");
+  s.add_int("damage.radial_bins", 20, 1, 100000, "radial shells of the radial profile");
+  s.add_real_list("damage.range", std::vector<double>{}, "m", -inf, inf,
+                  "[lo, hi] of the axial coordinate (empty: extent of the data)");
+  s.add_real("damage.cylinder_radius", 0.0, "m", 0.0, inf,
+             "axial profile: only items within this distance of the axis (0: all)");
+  s.add_vec3("damage.axis", Eigen::Vector3d::UnitZ(), "1", -inf, inf,
+             "profile axis (default when not given: the impact direction U/|U|, else +z)");
+  s.add_vec3("damage.origin", Eigen::Vector3d::Zero(), "m", -inf, inf,
+             "profile origin (default when not given: centre of mass of the profiled set)");
+  s.add_string("output.prefix", std::string("analysis"),
+               "output path prefix: <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv");
+  return s;
+}
+
+AnalyseConfig analyse_config(const common::Scene& sc) {
+  AnalyseConfig c;
+  c.scene_source = sc.source();
+  c.impact.impactor_mass = sc.real("impact.impactor_mass");
+  c.impact.impactor_velocity = sc.vec3("impact.impactor_velocity");
+  c.impact.target_velocity = sc.vec3("impact.target_velocity");
+  if (c.impact.impactor_mass > 0 && !c.impact.valid())
+    throw common::InputError(sc.source(), "impact.impactor_velocity",
+                             "must differ from impact.target_velocity when impact.impactor_mass > 0");
+  c.parent_body_mass = sc.real("impact.parent_body_mass");
+  c.target_radius = sc.real("impact.target_radius");
+  c.link_fraction = sc.real("fof.link_fraction");
+  c.link_length = sc.real("fof.link_length");
+  c.G = sc.real("gravity.G");
+  c.max_iterations = static_cast<int>(sc.integer("bound.max_iterations"));
+  c.damage_field = sc.string("damage.field");
+  c.damage_mpm = sc.string("damage.mpm_snapshot");
+  c.axial_bins = static_cast<int>(sc.integer("damage.bins"));
+  c.radial_bins = static_cast<int>(sc.integer("damage.radial_bins"));
+  const auto range = sc.real_list("damage.range");
+  if (!range.empty()) {
+    if (range.size() != 2 || !(range[0] < range[1]))
+      throw common::InputError(sc.source(), "damage.range", "expected [lo, hi] with lo < hi");
+    c.range_lo = range[0];
+    c.range_hi = range[1];
+  }
+  c.cylinder_radius = sc.real("damage.cylinder_radius");
+  if (sc.given("damage.axis")) {
+    const Eigen::Vector3d a = sc.vec3("damage.axis");
+    if (!(a.norm() > 0)) throw common::InputError(sc.source(), "damage.axis", "must be a non-zero vector");
+    c.axis = a.normalized();
+  }
+  if (sc.given("damage.origin")) c.origin = sc.vec3("damage.origin");
+  c.prefix = sc.string("output.prefix");
+  if (c.prefix.empty()) throw common::InputError(sc.source(), "output.prefix", "must not be empty");
+  return c;
+}
+
+}  // namespace analysis

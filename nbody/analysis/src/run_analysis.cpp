@@ -1,0 +1,352 @@
+#include "analysis/run_analysis.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <numeric>
+#include <sstream>
+
+#include "analysis/json_writer.hpp"
+#include "common/atomic_file.hpp"
+#include "common/h5.hpp"
+#include "common/particle_file.hpp"
+#include "common/status.hpp"
+
+namespace analysis {
+
+namespace {
+
+std::string fmt_num(double v) {
+  if (!std::isfinite(v)) return "";
+  std::ostringstream o;
+  o.precision(12);
+  o << v;
+  return o.str();
+}
+
+Eigen::Vector3d centre_of_mass(const double* x, const double* m, std::size_t n, const char* sel) {
+  Eigen::Vector3d s = Eigen::Vector3d::Zero();
+  double M = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (sel && !sel[i]) continue;
+    s += m[i] * Eigen::Vector3d(x + 3 * i);
+    M += m[i];
+  }
+  return M > 0 ? Eigen::Vector3d(s / M) : Eigen::Vector3d::Zero();
+}
+
+struct Header {
+  std::string file, format;
+  double time = 0.0;
+};
+
+Header read_header(const std::string& path) {
+  namespace h5 = common::h5;
+  h5::quiet_errors();
+  h5::Handle f = h5::open_file_read(path);
+  Header h;
+  h.file = path;
+  if (!h5::has_attr(f, "format")) throw common::InputError(path, "/format", "missing format attribute (not a suite file)");
+  h.format = h5::read_attr_string(f, "format", path);
+  if (h5::has_attr(f, "time")) h.time = h5::read_attr_double(f, "time", path);
+  return h;
+}
+
+Eigen::Vector3d profile_axis(const AnalyseConfig& cfg, std::vector<std::string>& notes) {
+  if (cfg.axis) return *cfg.axis;
+  if ((cfg.impact.impactor_velocity - cfg.impact.target_velocity).norm() > 0) return cfg.impact.direction();
+  notes.push_back("damage profile axis: no impact velocity given, using +z");
+  return Eigen::Vector3d::UnitZ();
+}
+
+void add_profiles(AnalysisOutcome& o, const AnalyseConfig& cfg, const std::string& file, const std::string& stage,
+                  double time, const std::string& set, const double* x, const double* m, const double* d,
+                  std::size_t n, const char* sel, const Eigen::Vector3d& axis) {
+  ProfileSpec spec;
+  spec.axis = axis;
+  spec.origin = cfg.origin ? *cfg.origin : centre_of_mass(x, m, n, sel);
+  spec.bins = cfg.axial_bins;
+  spec.lo = cfg.range_lo;
+  spec.hi = cfg.range_hi;
+  spec.cylinder_radius = cfg.cylinder_radius;
+  ProfileRecord r{file, stage, time, set, "axial", spec.origin, axis, axial_profile(x, m, d, n, spec, sel)};
+  o.profiles.push_back(r);
+  spec.bins = cfg.radial_bins;
+  spec.lo = spec.hi = 0.0;
+  r.kind = "radial";
+  r.bins = radial_profile(x, m, d, n, spec, sel);
+  o.profiles.push_back(r);
+}
+
+}  // namespace
+
+SnapshotResult analyse_snapshot(const common::SphereSet& s, const AnalyseConfig& cfg, double eps,
+                                std::vector<char>* sphere_bound) {
+  SnapshotResult r;
+  r.time = s.time;
+  r.step = s.step;
+  r.n_spheres = s.count();
+  const FofResult fof = friends_of_friends(s.position.data(), s.radius.data(), s.mass.data(), s.count(), eps);
+  r.n_clumps = fof.count();
+  r.n_singles = fof.singles();
+  r.lr_count = fof.count() ? static_cast<std::size_t>(fof.clump_count[0]) : 0;
+  const ClumpProps cp = clump_properties(s.position.data(), s.velocity.data(), s.mass.data(), s.count(), fof);
+  r.bound = bound_to_largest(cp, cfg.G, cfg.max_iterations);
+  if (r.bound.iterations >= cfg.max_iterations)
+    spdlog::warn("t = {} s: bound-mass iteration hit bound.max_iterations = {}", s.time, cfg.max_iterations);
+  if (r.bound.lr_mass > 0) r.lr_velocity = r.bound.lr_momentum / r.bound.lr_mass;
+  if (r.bound.bound_mass > 0) r.bound_velocity = r.bound.bound_momentum / r.bound.bound_mass;
+  if (cfg.impact.valid()) r.beta = momentum_enhancement(r.bound, cfg.impact);
+  if (sphere_bound) {
+    sphere_bound->assign(s.count(), 0);
+    for (std::size_t i = 0; i < s.count(); ++i) (*sphere_bound)[i] = r.bound.bound[fof.clump_of[i]];
+  }
+  r.bound.bound.clear();
+  r.bound.bound.shrink_to_fit();
+  return r;
+}
+
+AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
+  if (cfg.inputs.empty()) throw common::InputError(cfg.scene_source, "inputs", "no snapshot given");
+  std::vector<Header> heads;
+  for (const auto& f : cfg.inputs) {
+    Header h = read_header(f);
+    if (h.format != common::kSphereFormat)
+      throw common::InputError(f, "/format", "is \"" + h.format + "\", expected \"" + common::kSphereFormat +
+                                                 "\" (ssdem-analyse reads mpm2spheres/ssdem-grav sphere files; "
+                                                 "pass an MPM snapshot with --mpm)");
+    heads.push_back(h);
+  }
+  std::stable_sort(heads.begin(), heads.end(), [](const Header& a, const Header& b) { return a.time < b.time; });
+
+  AnalysisOutcome o;
+  const Eigen::Vector3d axis = profile_axis(cfg, o.notes);
+  common::SphereSet last;
+  std::vector<char> last_bound;
+  for (std::size_t k = 0; k < heads.size(); ++k) {
+    common::SphereSet s = common::read_sphere_set(heads[k].file);
+    if (s.count() == 0) throw common::InputError(heads[k].file, "/spheres", "contains no spheres");
+    if (k == 0) {
+      o.link_length = cfg.link_length > 0 ? cfg.link_length
+                                          : default_link_length(s.radius.data(), s.count(), cfg.link_fraction);
+      if (cfg.parent_body_mass > 0) {
+        o.parent_body_mass = cfg.parent_body_mass;
+        o.parent_body_mass_source = "scene (impact.parent_body_mass)";
+      } else {
+        o.parent_body_mass = std::accumulate(s.mass.begin(), s.mass.end(), 0.0);
+        o.parent_body_mass_source = "total mass of the earliest snapshot (" + heads[k].file + ")";
+      }
+      const common::Field* d = s.field(cfg.damage_field);
+      if (d && d->ncomp == 1 && heads.size() > 1)
+        add_profiles(o, cfg, heads[k].file, "handoff", s.time, "all", s.position.data(), s.mass.data(),
+                     d->values.data(), s.count(), nullptr, axis);
+    }
+    std::vector<char> bound;
+    SnapshotResult r = analyse_snapshot(s, cfg, o.link_length, k + 1 == heads.size() ? &bound : nullptr);
+    r.file = heads[k].file;
+    spdlog::info("{}: t = {:.6g} s, {} spheres, {} clumps, M_LR/M_PB = {:.6f}, bound {:.6f}{}", r.file, r.time,
+                 r.n_spheres, r.n_clumps, r.bound.lr_mass / o.parent_body_mass,
+                 r.bound.bound_mass / o.parent_body_mass,
+                 r.beta ? fmt::format(", beta = {:.6f}", r.beta->beta) : std::string());
+    o.rows.push_back(std::move(r));
+    if (k + 1 == heads.size()) {
+      last = std::move(s);
+      last_bound = std::move(bound);
+    }
+  }
+  // End of the N-body run: all material and the bound remnant.
+  const common::Field* d = last.field(cfg.damage_field);
+  if (d && d->ncomp == 1) {
+    const auto& r = o.rows.back();
+    add_profiles(o, cfg, r.file, "nbody_end", r.time, "all", last.position.data(), last.mass.data(),
+                 d->values.data(), last.count(), nullptr, axis);
+    add_profiles(o, cfg, r.file, "nbody_end", r.time, "bound", last.position.data(), last.mass.data(),
+                 d->values.data(), last.count(), last_bound.data(), axis);
+  } else {
+    o.notes.push_back("no scalar '" + cfg.damage_field + "' field in " + o.rows.back().file +
+                      ": no end-of-N-body damage profile");
+  }
+  // End of MPM.
+  if (!cfg.damage_mpm.empty()) {
+    const Header h = read_header(cfg.damage_mpm);
+    if (h.format == common::kParticleFormat) {
+      const common::ParticleSnapshot p = common::read_particle_snapshot(cfg.damage_mpm);
+      const common::Field* f = p.field(cfg.damage_field);
+      if (!f || f->ncomp != 1)
+        throw common::InputError(cfg.damage_mpm, "/particles/" + cfg.damage_field,
+                                 "missing or not a scalar field (damage.field)");
+      add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
+                   f->values.data(), p.count(), nullptr, axis);
+    } else if (h.format == common::kSphereFormat) {
+      const common::SphereSet p = common::read_sphere_set(cfg.damage_mpm);
+      const common::Field* f = p.field(cfg.damage_field);
+      if (!f || f->ncomp != 1)
+        throw common::InputError(cfg.damage_mpm, "/spheres/" + cfg.damage_field,
+                                 "missing or not a scalar field (damage.field)");
+      add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
+                   f->values.data(), p.count(), nullptr, axis);
+    } else {
+      throw common::InputError(cfg.damage_mpm, "/format",
+                               "is \"" + h.format + "\", expected mpm-frag.particles or ssdem.spheres");
+    }
+  }
+  for (const auto& n : o.notes) spdlog::warn("{}", n);
+  return o;
+}
+
+std::string timeseries_csv(const AnalysisOutcome& o) {
+  std::ostringstream s;
+  s << "time,M_LR_over_M_PB,bound_mass_fraction,beta,n_clumps,escaping_mass,"
+       "step,file,n_spheres,n_single,lr_spheres,M_LR,bound_mass,total_mass,n_bound_clumps,"
+       "p_esc_x,p_esc_y,p_esc_z,p_esc_along_impact,beta_lr,beta_ejecta,beta_vector,momentum_error,bound_iterations\n";
+  const double mpb = o.parent_body_mass;
+  for (const auto& r : o.rows) {
+    const auto& b = r.bound;
+    const Eigen::Vector3d pe = r.beta ? r.beta->escaping_momentum : b.escaping_momentum;
+    s << fmt_num(r.time) << ',' << fmt_num(b.lr_mass / mpb) << ',' << fmt_num(b.bound_mass / mpb) << ','
+      << (r.beta ? fmt_num(r.beta->beta) : "") << ',' << r.n_clumps << ',' << fmt_num(b.escaping_mass) << ','
+      << r.step << ',' << r.file << ',' << r.n_spheres << ',' << r.n_singles << ',' << r.lr_count << ','
+      << fmt_num(b.lr_mass) << ',' << fmt_num(b.bound_mass) << ',' << fmt_num(b.total_mass) << ','
+      << b.n_bound_clumps << ',' << fmt_num(pe[0]) << ',' << fmt_num(pe[1]) << ',' << fmt_num(pe[2]) << ','
+      << (r.beta ? fmt_num(r.beta->escaping_momentum_along) : "") << ','
+      << (r.beta ? fmt_num(r.beta->beta_lr) : "") << ',' << (r.beta ? fmt_num(r.beta->beta_ejecta) : "") << ','
+      << (r.beta && r.beta->beta_vector ? fmt_num(*r.beta->beta_vector) : "") << ','
+      << (r.beta ? fmt_num(r.beta->momentum_error) : "") << ',' << b.iterations << '\n';
+  }
+  return s.str();
+}
+
+std::string damage_csv(const AnalysisOutcome& o) {
+  std::ostringstream s;
+  s << "stage,source,time,set,kind,bin,lo,hi,centre,count,mass,mean_damage\n";
+  for (const auto& p : o.profiles)
+    for (std::size_t k = 0; k < p.bins.size(); ++k) {
+      const auto& b = p.bins[k];
+      s << p.stage << ',' << p.source << ',' << fmt_num(p.time) << ',' << p.set << ',' << p.kind << ',' << k << ','
+        << fmt_num(b.lo) << ',' << fmt_num(b.hi) << ',' << fmt_num(b.centre()) << ',' << b.count << ','
+        << fmt_num(b.mass) << ',' << fmt_num(b.mean) << '\n';
+    }
+  return s.str();
+}
+
+namespace {
+std::string out_path(const AnalyseConfig& c, const std::string& suffix) { return c.prefix + suffix; }
+}  // namespace
+
+std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, const common::Provenance& prov) {
+  JsonWriter j;
+  j.begin_object();
+  j.value("format", "ssdem-analyse.summary").value("format_version", 1LL);
+  j.begin_object("provenance")
+      .value("tool", prov.tool)
+      .value("version", prov.version)
+      .value("git_sha", prov.git_sha)
+      .value("command_line", prov.command_line)
+      .value("scene", prov.scene_toml)
+      .end_object();
+  std::vector<std::string> files;
+  for (const auto& r : o.rows) files.push_back(r.file);
+  j.begin_object("inputs")
+      .value("snapshots", files)
+      .value("mpm_snapshot", cfg.damage_mpm)
+      .value("impactor_mass", cfg.impact.impactor_mass)
+      .value("impactor_velocity", cfg.impact.impactor_velocity)
+      .value("target_velocity", cfg.impact.target_velocity)
+      .value("impact_speed", cfg.impact.relative_velocity().norm())
+      .value("impactor_momentum", cfg.impact.impactor_momentum())
+      .value("impact_direction", cfg.impact.direction())
+      .value("parent_body_mass", o.parent_body_mass)
+      .value("parent_body_mass_source", o.parent_body_mass_source)
+      .value("target_radius", cfg.target_radius)
+      .value("G", cfg.G)
+      .value("link_length", o.link_length)
+      .value("link_fraction", cfg.link_length > 0 ? std::optional<double>() : std::optional<double>(cfg.link_fraction))
+      .value("damage_field", cfg.damage_field)
+      .end_object();
+  j.begin_object("definitions")
+      .value("frame", "velocities and momenta in the rest frame of the target before impact: v - impact.target_velocity")
+      .value("clumps", "friends-of-friends on sphere surfaces: i and j linked if |x_i - x_j| - r_i - r_j < link_length")
+      .value("largest_remnant", "most massive clump (M_LR)")
+      .value("bound", "clumps added iteratively to the largest remnant while 0.5|v_k - V|^2 - G (M + m_k)/|r_k - R| < 0 "
+                      "(M, R, V: mass, centre of mass and centre-of-mass velocity of the current remnant)")
+      .value("escaping", "all material not bound to the largest remnant")
+      .value("beta", "beta = P_bound . U_hat / (m_imp |U|): momentum of the bound remnant (incl. embedded impactor "
+                     "material) along the impact direction over the impactor momentum (Holsapple & Housen 2012)")
+      .value("beta_lr", "as beta with the largest clump only")
+      .value("beta_ejecta", "1 - P_esc . U_hat / (m_imp |U|); equals beta when momentum is conserved")
+      .value("beta_vector", "Cheng et al. 2023 eq. 1: M dv = m U + m (beta-1)(E.U) E, E parallel to P_bound - m U")
+      .value("momentum_error", "|P_total - m_imp U| / (m_imp |U|)")
+      .value("M_LR_over_M_PB", "largest-clump mass over parent-body mass")
+      .value("bound_mass_fraction", "bound-remnant mass over parent-body mass")
+      .value("damage_profile", "mass-weighted mean damage in bins of (x - origin).axis (axial) or |x - origin| (radial); "
+                               "origin = centre of mass of the profiled set unless damage.origin is given; "
+                               "axis = impact direction unless damage.axis is given (impact site at negative axial coordinate)")
+      .end_object();
+  if (!o.rows.empty()) {
+    const auto& r = o.rows.back();
+    const auto& b = r.bound;
+    const double mpb = o.parent_body_mass;
+    j.begin_object("final")
+        .value("file", r.file)
+        .value("time", r.time)
+        .value("step", r.step)
+        .value("n_spheres", static_cast<long long>(r.n_spheres))
+        .value("total_mass", b.total_mass)
+        .value("n_clumps", static_cast<long long>(r.n_clumps))
+        .value("n_single_spheres", static_cast<long long>(r.n_singles))
+        .value("largest_remnant_spheres", static_cast<long long>(r.lr_count))
+        .value("M_LR", b.lr_mass)
+        .value("M_LR_over_M_PB", b.lr_mass / mpb)
+        .value("largest_remnant_velocity", r.lr_velocity)
+        .value("bound_mass", b.bound_mass)
+        .value("bound_mass_fraction", b.bound_mass / mpb)
+        .value("n_bound_clumps", static_cast<long long>(b.n_bound_clumps))
+        .value("bound_remnant_velocity", r.bound_velocity)
+        .value("bound_iterations", static_cast<long long>(b.iterations))
+        .value("escaping_mass", b.escaping_mass)
+        .value("escaping_mass_fraction", b.escaping_mass / mpb);
+    if (r.beta) {
+      j.value("escaping_momentum", r.beta->escaping_momentum)
+          .value("escaping_momentum_along_impact", r.beta->escaping_momentum_along)
+          .value("beta", r.beta->beta)
+          .value("beta_lr", r.beta->beta_lr)
+          .value("beta_ejecta", r.beta->beta_ejecta)
+          .value("beta_vector", r.beta->beta_vector)
+          .value("momentum_error", r.beta->momentum_error);
+    } else {
+      j.value("escaping_momentum", b.escaping_momentum)
+          .null("escaping_momentum_along_impact")
+          .null("beta")
+          .null("beta_lr")
+          .null("beta_ejecta")
+          .null("beta_vector")
+          .null("momentum_error");
+    }
+    j.end_object();
+  }
+  j.begin_object("outputs")
+      .value("summary_json", out_path(cfg, ".json"))
+      .value("timeseries_csv", out_path(cfg, ".timeseries.csv"))
+      .value("damage_csv", out_path(cfg, ".damage.csv"))
+      .end_object();
+  j.value("notes", o.notes);
+  j.end_object();
+  return j.str();
+}
+
+void write_outputs(const AnalysisOutcome& o, const AnalyseConfig& cfg, const common::Provenance& prov) {
+  const std::filesystem::path parent = std::filesystem::path(cfg.prefix).parent_path();
+  if (!parent.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(parent, ec);
+    if (ec) throw common::IoError("cannot create directory " + parent.string() + ": " + ec.message());
+  }
+  common::write_text_atomic(out_path(cfg, ".timeseries.csv"), timeseries_csv(o));
+  common::write_text_atomic(out_path(cfg, ".damage.csv"), damage_csv(o));
+  common::write_text_atomic(out_path(cfg, ".json"), summary_json(o, cfg, prov));
+  spdlog::info("wrote {}.json, {}.timeseries.csv, {}.damage.csv", cfg.prefix, cfg.prefix, cfg.prefix);
+}
+
+}  // namespace analysis

@@ -1,0 +1,38 @@
+/// @file io.hpp
+/// Sphere files and checkpoints of ssdem-grav.
+///
+/// Snapshots are `ssdem.spheres` files (common::write_sphere_set, XDMF sidecar) with the carried
+/// per-sphere fields (e.g. damage from mpm2spheres). Checkpoints are the same format plus a group
+///   /ssdem_state  attrs: step, time [s], gravity_step, dt [s], gravity_every, kn [N/m]
+///                 a (N x 3, m/s^2), alpha (N x 3, rad/s^2), ag (N x 3, m/s^2; self-gravity only)
+///                 history/{id_a, id_b (uint64 P), S (P x 3, m), n_old (P x 3, 1),
+///                          theta_r (P x 3, rad), theta_q (P, rad)}
+/// written through the common::H5Hook extra-group mechanism. Wall contacts have
+/// id_b = 0xFFFFFFFF00000000 + wall index. Together with positions, velocities and spins this is
+/// the complete dynamic state: a restart continues bit-identically.
+#pragma once
+#include <string>
+
+#include "common/provenance.hpp"
+#include "common/sphere_file.hpp"
+#include "ssdem/simulation.hpp"
+
+namespace ssdem {
+
+/// Convert to/from the common file structure (ids, fields carried).
+common::SphereSet to_sphere_set(const Spheres& sp, double time, std::int64_t step);
+Spheres from_sphere_set(const common::SphereSet& s);
+
+/// Snapshot (state of the spheres only).
+void write_snapshot(const std::string& path, const Spheres& sp, double time, std::int64_t step,
+                    const common::Provenance& prov);
+/// Checkpoint: snapshot + /ssdem_state.
+/// `kn` is the resolved normal stiffness (the k_n rule depends on the state, so a restart must
+/// reuse the value the run started with).
+void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
+                      const common::Provenance& prov, double kn = 0.0);
+/// Read a checkpoint; `dt`, `gravity_every` and `kn` return the values it was written with.
+SimState read_checkpoint(const std::string& path, double* dt = nullptr, int* gravity_every = nullptr,
+                         double* kn = nullptr);
+
+}  // namespace ssdem

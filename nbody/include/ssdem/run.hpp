@@ -1,0 +1,22 @@
+/// @file run.hpp
+/// The ssdem-grav driver: builds the simulation from a scene (or a checkpoint), runs it with
+/// snapshots, a time-series CSV, progress lines and checkpoints (periodic, at the end and on
+/// SIGTERM/SIGINT), and on a numerical failure saves the last good state and throws
+/// common::NumericalError (exit code 3).
+///
+/// Outputs in output.dir: snap_<step>.h5 (+ .xmf), series.csv, checkpoint.h5,
+/// failed_state.h5 (only after a failure), run_info.txt (choices made by the dt rule).
+/// Interrupted by SIGTERM/SIGINT: checkpoint written, exit code 128 + signal number.
+#pragma once
+#include <string>
+
+#include "common/provenance.hpp"
+#include "common/schema.hpp"
+
+namespace ssdem {
+
+/// Run a scene; `restart` = checkpoint file to continue from ("" = fresh start).
+/// Returns the process exit code (0, or 128+signal when interrupted).
+int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const std::string& restart);
+
+}  // namespace ssdem

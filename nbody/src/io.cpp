@@ -1,0 +1,142 @@
+// Snapshot and checkpoint files (io.hpp).
+#include "ssdem/io.hpp"
+
+#include "common/h5.hpp"
+#include "common/status.hpp"
+
+namespace ssdem {
+namespace {
+std::vector<double> flat(const std::vector<Vec3>& v) {
+  std::vector<double> out(3 * v.size());
+  for (std::size_t i = 0; i < v.size(); ++i)
+    for (int k = 0; k < 3; ++k) out[3 * i + k] = v[i][k];
+  return out;
+}
+std::vector<Vec3> unflat(const std::vector<double>& f) {
+  std::vector<Vec3> v(f.size() / 3);
+  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
+  return v;
+}
+}  // namespace
+
+common::SphereSet to_sphere_set(const Spheres& sp, double time, std::int64_t step) {
+  common::SphereSet s;
+  s.time = time;
+  s.step = step;
+  s.id = sp.id;
+  s.position = flat(sp.x);
+  s.velocity = flat(sp.v);
+  s.spin = flat(sp.w);
+  s.mass = sp.m;
+  s.radius = sp.s;
+  s.fields = sp.carried;
+  return s;
+}
+
+Spheres from_sphere_set(const common::SphereSet& s) {
+  Spheres sp;
+  sp.id = s.id;
+  sp.x = unflat(s.position);
+  sp.v = unflat(s.velocity);
+  sp.w = unflat(s.spin);
+  sp.m = s.mass;
+  sp.s = s.radius;
+  sp.carried = s.fields;
+  return sp;
+}
+
+void write_snapshot(const std::string& path, const Spheres& sp, double time, std::int64_t step,
+                    const common::Provenance& prov) {
+  common::write_sphere_set(path, to_sphere_set(sp, time, step), prov);
+}
+
+void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
+                      const common::Provenance& prov, double kn) {
+  namespace h5 = common::h5;
+  const std::size_t n = st.sp.size();
+  auto hook = [&](long long fid) {
+    const hid_t f = static_cast<hid_t>(fid);
+    h5::Handle g = h5::create_group(f, "ssdem_state");
+    h5::write_attr(g, "step", static_cast<std::int64_t>(st.step));
+    h5::write_attr(g, "time", st.time);
+    h5::write_attr(g, "gravity_step", static_cast<std::int64_t>(st.gravity_step));
+    h5::write_attr(g, "dt", dt);
+    h5::write_attr(g, "gravity_every", static_cast<std::int64_t>(gravity_every));
+    h5::write_attr(g, "kn", kn);
+    auto a = flat(st.a), al = flat(st.alpha);
+    h5::write_dataset(g, "a", a.data(), n, 3, "m/s^2");
+    h5::write_dataset(g, "alpha", al.data(), n, 3, "rad/s^2");
+    if (!st.ag.empty()) {
+      auto ag = flat(st.ag);
+      h5::write_dataset(g, "ag", ag.data(), n, 3, "m/s^2");
+    }
+    h5::Handle hg = h5::create_group(g, "history");
+    const std::size_t P = st.history.size();
+    std::vector<std::uint64_t> ia(P), ib(P);
+    std::vector<double> S(3 * P), no(3 * P), th(3 * P), q(P);
+    for (std::size_t p = 0; p < P; ++p) {
+      const auto& r = st.history[p];
+      ia[p] = r.id_a;
+      ib[p] = r.id_b;
+      for (int k = 0; k < 3; ++k) {
+        S[3 * p + k] = r.S[k];
+        no[3 * p + k] = r.n_old[k];
+        th[3 * p + k] = r.theta_r[k];
+      }
+      q[p] = r.theta_q;
+    }
+    h5::write_dataset(hg, "id_a", ia.data(), P, 1, "1");
+    h5::write_dataset(hg, "id_b", ib.data(), P, 1, "1");
+    h5::write_dataset(hg, "S", S.data(), P, 3, "m");
+    h5::write_dataset(hg, "n_old", no.data(), P, 3, "1");
+    h5::write_dataset(hg, "theta_r", th.data(), P, 3, "rad");
+    h5::write_dataset(hg, "theta_q", q.data(), P, 1, "rad");
+  };
+  common::write_sphere_set(path, to_sphere_set(st.sp, st.time, st.step), prov, hook);
+}
+
+SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every, double* kn) {
+  namespace h5 = common::h5;
+  SimState st;
+  bool found = false;
+  auto hook = [&](long long fid) {
+    const hid_t f = static_cast<hid_t>(fid);
+    if (!h5::exists(f, "ssdem_state")) return;
+    found = true;
+    h5::Handle g = h5::open_group(f, "ssdem_state", path);
+    st.step = h5::read_attr_int(g, "step", path);
+    st.time = h5::read_attr_double(g, "time", path);
+    st.gravity_step = h5::read_attr_int(g, "gravity_step", path);
+    if (dt) *dt = h5::read_attr_double(g, "dt", path);
+    if (gravity_every) *gravity_every = static_cast<int>(h5::read_attr_int(g, "gravity_every", path));
+    if (kn) *kn = h5::read_attr_double(g, "kn", path);
+    st.a = unflat(h5::read_doubles(f, "/ssdem_state/a", -1, 3, path));
+    st.alpha = unflat(h5::read_doubles(f, "/ssdem_state/alpha", -1, 3, path));
+    if (h5::exists(f, "/ssdem_state/ag")) st.ag = unflat(h5::read_doubles(f, "/ssdem_state/ag", -1, 3, path));
+    const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
+    const long long P = static_cast<long long>(ia.size());
+    const auto ib = h5::read_u64(f, "/ssdem_state/history/id_b", P, 1, path);
+    const auto S = h5::read_doubles(f, "/ssdem_state/history/S", P, 3, path);
+    const auto no = h5::read_doubles(f, "/ssdem_state/history/n_old", P, 3, path);
+    const auto th = h5::read_doubles(f, "/ssdem_state/history/theta_r", P, 3, path);
+    const auto q = h5::read_doubles(f, "/ssdem_state/history/theta_q", P, 1, path);
+    st.history.resize(ia.size());
+    for (std::size_t p = 0; p < ia.size(); ++p) {
+      auto& r = st.history[p];
+      r.id_a = ia[p];
+      r.id_b = ib[p];
+      r.S = Vec3(S[3 * p], S[3 * p + 1], S[3 * p + 2]);
+      r.n_old = Vec3(no[3 * p], no[3 * p + 1], no[3 * p + 2]);
+      r.theta_r = Vec3(th[3 * p], th[3 * p + 1], th[3 * p + 2]);
+      r.theta_q = q[p];
+    }
+  };
+  const common::SphereSet s = common::read_sphere_set(path, hook);
+  if (!found) throw common::InputError(path + ": not an ssdem-grav checkpoint (no /ssdem_state group)");
+  st.sp = from_sphere_set(s);
+  if (st.a.size() != st.sp.size() || st.alpha.size() != st.sp.size())
+    throw common::InputError(path + ": /ssdem_state arrays do not match the sphere count");
+  return st;
+}
+
+}  // namespace ssdem

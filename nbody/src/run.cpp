@@ -1,0 +1,216 @@
+// ssdem-grav driver (run.hpp).
+#include "ssdem/run.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <csignal>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/log.hpp"
+#include "common/status.hpp"
+#include "ssdem/io.hpp"
+#include "ssdem/scene_setup.hpp"
+
+namespace ssdem {
+namespace {
+std::atomic<int> g_signal{0};
+extern "C" void on_signal(int sig) { g_signal.store(sig); }
+
+std::string snap_name(const std::string& dir, std::int64_t step) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "snap_%09lld.h5", static_cast<long long>(step));
+  return (std::filesystem::path(dir) / buf).string();
+}
+
+const char* kSeriesHeader =
+    "step,time_s,kinetic_J,rotational_J,potential_self_J,potential_uniform_J,elastic_J,total_J,"
+    "px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,contacts,wall_contacts,"
+    "max_overlap_frac,wall_s";
+
+// Keep the rows of an existing series file up to and including `step` (restart).
+void truncate_series(const std::string& path, std::int64_t step) {
+  std::ifstream in(path);
+  if (!in) return;
+  std::ostringstream keep;
+  std::string line;
+  bool first = true;
+  while (std::getline(in, line)) {
+    if (first) {
+      keep << line << '\n';
+      first = false;
+      continue;
+    }
+    const long long s = std::atoll(line.c_str());
+    if (s <= step) keep << line << '\n';
+  }
+  common::write_text_atomic(path, keep.str());
+}
+}  // namespace
+
+int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
+  const std::string dir = sc.string("output.dir");
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw common::IoError(dir + ": cannot create output directory: " + ec.message());
+
+  std::unique_ptr<Simulation> sim;
+  std::string info;
+  if (restart.empty()) {
+    Spheres sp = initial_spheres(sc);
+    const SimConfig cfg = sim_config(sc, sp, &info);
+    sim = std::make_unique<Simulation>(std::move(sp), cfg);
+  } else {
+    double dt0 = 0, kn0 = 0;
+    int every0 = 0;
+    SimState st = read_checkpoint(restart, &dt0, &every0, &kn0);
+    SimConfig cfg = sim_config(sc, st.sp, &info);
+    if (cfg.contacts && kn0 > 0.0 && cfg.contact.kn != kn0) {
+      if (sc.given("contact.normal.kn"))
+        spdlog::warn("restart: contact.normal.kn = {} differs from the checkpoint's {}; using the "
+                     "checkpoint's value so the continuation is exact", cfg.contact.kn, kn0);
+      cfg.contact.kn = kn0;
+    }
+    if (cfg.dt != dt0 || cfg.gravity_every != every0)
+      spdlog::warn("restart: dt or gravity.every differ from the checkpoint ({} s, {}); using the "
+                   "checkpoint's values so the continuation is exact",
+                   dt0, every0);
+    cfg.dt = dt0;
+    cfg.gravity_every = every0;
+    sim = std::make_unique<Simulation>(std::move(st), cfg);
+    info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
+  }
+  const SimConfig& cfg = sim->config();
+  {
+    std::ostringstream os;
+    os << info << "spheres: " << sim->spheres().size() << "\ndt = " << cfg.dt
+       << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
+       << ", every " << cfg.gravity_every << " steps\ncontacts: " << (cfg.contacts ? "on" : "off")
+       << "\nk_n = " << cfg.contact.kn << " N/m, parts mask = " << cfg.contact.parts << "\n";
+    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), os.str());
+    spdlog::info("ssdem-grav: {} spheres, dt = {} s, gravity {} (every {}), contacts {}",
+                 sim->spheres().size(), cfg.dt,
+                 cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off",
+                 cfg.gravity_every, cfg.contacts ? "on" : "off");
+  }
+  sim->set_keep_last_good(std::max<std::int64_t>(cfg.gravity_every, 100 / cfg.gravity_every * cfg.gravity_every));
+
+  const double t_end = sc.real("time.end");
+  const std::int64_t k = cfg.gravity_every;
+  std::int64_t series_every = sc.integer("output.series_every");
+  series_every = (series_every + k - 1) / k * k;
+  const double snap_dt = sc.real("output.snapshot_every");
+  std::vector<double> times = sc.real_list("output.times");
+  std::sort(times.begin(), times.end());
+  const std::int64_t ckpt_every = sc.integer("output.checkpoint_every");
+  const double ckpt_wall = sc.real("output.checkpoint_wall");
+  const std::string series_path = (std::filesystem::path(dir) / "series.csv").string();
+  const std::string ckpt_path = (std::filesystem::path(dir) / "checkpoint.h5").string();
+  // end on a gravity-block boundary (velocities physical there)
+  std::int64_t n_end = static_cast<std::int64_t>(std::ceil(t_end / cfg.dt - 1e-9));
+  n_end = (n_end + k - 1) / k * k;
+
+  if (restart.empty()) {
+    std::ofstream(series_path) << kSeriesHeader << '\n';
+  } else {
+    truncate_series(series_path, sim->step_count());
+  }
+  std::ofstream series(series_path, std::ios::app);
+  if (!series) throw common::IoError(series_path + ": cannot open for writing");
+  series.precision(17);
+
+  double E0 = NAN;
+  common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
+  auto write_row = [&]() {
+    const Diagnostics d = sim->diagnostics();
+    if (std::isnan(E0)) E0 = d.total();
+    series << sim->step_count() << ',' << sim->time() << ',' << d.kinetic << ',' << d.rotational
+           << ',' << d.potential_self << ',' << d.potential_uniform << ',' << d.elastic << ','
+           << d.total() << ',' << d.momentum.x() << ',' << d.momentum.y() << ',' << d.momentum.z()
+           << ',' << d.angular_momentum.x() << ',' << d.angular_momentum.y() << ','
+           << d.angular_momentum.z() << ',' << d.contacts << ',' << d.wall_contacts << ','
+           << d.max_overlap_frac << ',' << progress.elapsed() << '\n';
+    series.flush();
+    if (!series) throw common::IoError(series_path + ": write failed");
+    const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
+    progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
+  };
+  auto checkpoint = [&]() {
+    write_checkpoint(ckpt_path, sim->state(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn);
+    spdlog::info("checkpoint at step {} -> {}", sim->step_count(), ckpt_path);
+  };
+  double next_snap = snap_dt > 0 ? (std::floor(sim->time() / snap_dt + 1e-9) + 1) * snap_dt : INFINITY;
+  std::size_t next_time = 0;
+  while (next_time < times.size() && times[next_time] < sim->time() - 1e-12) ++next_time;
+
+  g_signal.store(0);
+  auto old_term = std::signal(SIGTERM, on_signal);
+  auto old_int = std::signal(SIGINT, on_signal);
+  struct Restore {
+    decltype(old_term) t, i;
+    ~Restore() {
+      std::signal(SIGTERM, t);
+      std::signal(SIGINT, i);
+    }
+  } restore{old_term, old_int};
+
+  if (restart.empty()) {
+    write_row();
+    write_snapshot(snap_name(dir, 0), sim->spheres(), sim->time(), 0, prov);
+  }
+  double last_ckpt_wall = progress.elapsed();
+  try {
+    while (sim->step_count() < n_end) {
+      sim->step();
+      const std::int64_t s = sim->step_count();
+      const bool boundary = s % k == 0;
+      if (!boundary) continue;  // velocities are physical at gravity-block boundaries only
+      if (s % series_every == 0 || s >= n_end) write_row();
+      bool snap = false;
+      if (sim->time() >= next_snap - 1e-9 * cfg.dt) {
+        snap = true;
+        while (next_snap <= sim->time() + 1e-9 * cfg.dt) next_snap += snap_dt;
+      }
+      while (next_time < times.size() && sim->time() >= times[next_time] - 1e-9 * cfg.dt) {
+        snap = true;
+        ++next_time;
+      }
+      if (snap || s >= n_end) write_snapshot(snap_name(dir, s), sim->spheres(), sim->time(), s, prov);
+      const int sig = g_signal.load();
+      if (sig != 0) {
+        checkpoint();
+        spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", sig, s, ckpt_path);
+        return 128 + sig;
+      }
+      if ((ckpt_every > 0 && s % ckpt_every == 0) ||
+          (ckpt_wall > 0 && progress.elapsed() - last_ckpt_wall > ckpt_wall)) {
+        checkpoint();
+        last_ckpt_wall = progress.elapsed();
+      }
+    }
+  } catch (common::NumericalError& e) {
+    const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
+    if (sim->last_good()) {
+      write_checkpoint(failed, *sim->last_good(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn);
+      spdlog::error("{}; last good state (step {}) saved to {}", e.what(), sim->last_good()->step, failed);
+    } else {
+      write_snapshot(failed, sim->spheres(), sim->time(), sim->step_count(), prov);
+      spdlog::error("{}; failing state saved to {}", e.what(), failed);
+    }
+    e.set_saved_state(failed);
+    throw;
+  }
+  checkpoint();
+  progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
+  const PhaseTimes& t = sim->times();
+  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, "
+               "integrate {:.3f}",
+               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.contacts, t.integrate);
+  return 0;
+}
+
+}  // namespace ssdem

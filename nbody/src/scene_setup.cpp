@@ -1,0 +1,198 @@
+// ssdem-grav scene schema and setup (scene_setup.hpp).
+#include "ssdem/scene_setup.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "common/rng.hpp"
+#include "common/sphere_file.hpp"
+#include "common/status.hpp"
+#include "ssdem/dt_rule.hpp"
+#include "ssdem/generators.hpp"
+#include "ssdem/io.hpp"
+
+namespace ssdem {
+
+const ContactPartRegistry& builtin_contact_parts() {
+  static const ContactPartRegistry reg = [] {
+    ContactPartRegistry r;
+    register_builtin_contact_parts(r);
+    return r;
+  }();
+  return reg;
+}
+
+common::Schema ssdem_schema() {
+  common::Schema s("ssdem-grav: self-gravity + soft-sphere DEM");
+  const double inf = INFINITY;
+  // time
+  s.add_real("time.end", std::nullopt, "s", 0.0, inf, "simulated end time", true);
+  s.add_real("time.dt", 0.0, "s", 0.0, inf,
+             "timestep; 0 = from the dt rule: tau_min / time.steps_per_contact");
+  s.add_real("time.steps_per_contact", 30.0, "1", 1.0, 1e6,
+             "steps per contact duration used by the dt rule (pkdgrav demparams default 30)");
+  s.add_real("time.min_steps_per_contact", 10.0, "1", 1.0, 1e6,
+             "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
+  // initial condition
+  s.add_choice("initial.source", std::string("lattice_pile"),
+               {"file", "lattice_pile", "random_pile", "two_bodies"},
+               "initial condition: an ssdem.spheres file or a generator");
+  s.add_string("initial.file", std::string(""), "ssdem.spheres input file (initial.source = file)");
+  s.add_real("initial.body_radius", 10.0, "m", 0.0, inf, "radius of the (first) body", true);
+  s.add_real("initial.sphere_radius", 1.0, "m", 0.0, inf, "sphere radius of generated bodies", true);
+  s.add_real("initial.density", 2000.0, "kg/m^3", 0.0, inf, "grain (sphere material) density", true);
+  s.add_real("initial.jitter", 0.0, "1", 0.0, 0.5, "relative random shrink of generated radii");
+  s.add_int("initial.count", 1000, 1, 100000000, "number of spheres (random_pile)");
+  s.add_int("initial.seed", 1, 0, 1LL << 62, "random seed (keyed by sphere id)");
+  s.add_vec3("initial.velocity", Eigen::Vector3d::Zero(), "m/s", -inf, inf, "bulk velocity of body 1");
+  s.add_vec3("initial.angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -inf, inf,
+             "rigid rotation of body 1 about its centre");
+  s.add_real("initial.body2_radius", 5.0, "m", 0.0, inf, "radius of body 2 (two_bodies)", true);
+  s.add_vec3("initial.body2_offset", Eigen::Vector3d(30, 0, 0), "m", -inf, inf,
+             "centre of body 2 relative to body 1 (two_bodies)");
+  s.add_vec3("initial.body2_velocity", Eigen::Vector3d(-1, 0, 0), "m/s", -inf, inf,
+             "velocity of body 2 (two_bodies)");
+  // gravity
+  s.add_bool("gravity.self", true, "self-gravity on/off (off: no tree is built)");
+  s.add_choice("gravity.solver", std::string("tree"), {"tree", "direct"},
+               "tree (Barnes-Hut octree, quadrupoles) or direct summation (reference, small N)");
+  s.add_real("gravity.G", 6.674e-11, "m^3/(kg s^2)", 0.0, inf, "gravitational constant");
+  s.add_real("gravity.theta", 0.3, "1", 0.0, 1.0,
+             "opening angle (0.3: rms relative force error ~6e-4)", true);
+  s.add_int("gravity.bucket", 16, 1, 1024, "max spheres per tree leaf");
+  s.add_int("gravity.every", 1, 1, 1000000,
+            "self-gravity evaluated every k contact steps (impulse RESPA outer step k*dt)");
+  s.add_vec3("gravity.uniform", Eigen::Vector3d::Zero(), "m/s^2", -inf, inf, "uniform gravity field");
+  // contacts
+  s.add_bool("contact.enabled", true, "soft-sphere contacts on/off (off: no neighbour list)");
+  s.add_choice("contact.preset", std::string("none"), {"none", "gravel"},
+               "parameter preset for keys not given explicitly: gravel = e_n = e_t = 0.55, "
+               "mu_s = 1.0, mu_r = 1.05, mu_t = 1.3, beta = 0.5, all parts (ssdem.md §1.8)");
+  builtin_contact_parts().declare(s);
+  s.add_real("contact.vmax", 0.0, "m/s", 0.0, inf,
+             "expected max impact speed for the k_n rule (k_n = m vmax^2 / (f s)^2) when "
+             "contact.normal.kn = 0; 0 = 1.2 x escape speed of the initial body");
+  s.add_real("contact.overlap_fraction", 0.01, "1", 0.0, 1.0,
+             "allowed overlap / radius for the k_n rule", true);
+  s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin; 0 = 0.1 x max radius");
+  s.add_real("contact.max_overlap_fraction", 1.0, "1", 0.0, 10.0,
+             "overlap / smaller radius that stops the run with exit code 3", true);
+  {
+    auto& w = s.add_table_array("wall", "infinite plane walls");
+    w.add_vec3("point", Eigen::Vector3d::Zero(), "m", -inf, inf, "a point on the plane");
+    w.add_vec3("normal", Eigen::Vector3d::UnitZ(), "1", -inf, inf, "normal pointing into the domain");
+  }
+  // output
+  s.add_string("output.dir", std::string("ssdem_out"), "output directory");
+  s.add_real("output.snapshot_every", 0.0, "s", 0.0, inf, "snapshot interval (0 = none)");
+  s.add_real_list("output.times", std::vector<double>{}, "s", 0.0, inf,
+                  "extra snapshot times (first block boundary at or after each)");
+  s.add_int("output.series_every", 100, 1, 1LL << 40,
+            "time-series row every N steps (rounded up to a multiple of gravity.every)");
+  s.add_real("output.checkpoint_wall", 600.0, "s", 0.0, inf,
+             "checkpoint every this many wall-clock seconds (0 = only at the end / on signals)");
+  s.add_int("output.checkpoint_every", 0, 0, 1LL << 40, "checkpoint every N steps (0 = off)");
+  s.add_real("output.progress_interval", 10.0, "s", 0.0, inf, "wall-clock seconds between progress lines");
+  return s;
+}
+
+Spheres initial_spheres(const common::Scene& sc) {
+  const std::string src = sc.string("initial.source");
+  Spheres sp;
+  if (src == "file") {
+    const std::string f = sc.string("initial.file");
+    if (f.empty()) throw common::InputError(sc.where("initial.file") + ": required for source = file");
+    sp = from_sphere_set(common::read_sphere_set(f));
+    if (sp.size() == 0) throw common::InputError(f + ": no spheres");
+    return sp;
+  }
+  const double R = sc.real("initial.body_radius"), s = sc.real("initial.sphere_radius");
+  const double rho = sc.real("initial.density"), jit = sc.real("initial.jitter");
+  const auto seed = static_cast<std::uint64_t>(sc.integer("initial.seed"));
+  if (s > R) throw common::InputError(sc.where("initial.sphere_radius") + ": larger than the body radius");
+  if (src == "random_pile")
+    sp = random_cloud(static_cast<std::size_t>(sc.integer("initial.count")), R, s, rho, seed);
+  else
+    sp = lattice_pile(R, s, rho, jit, seed);
+  const Vec3 v = sc.vec3("initial.velocity"), W = sc.vec3("initial.angular_velocity");
+  for (std::size_t i = 0; i < sp.size(); ++i) sp.v[i] = v + W.cross(sp.x[i]);
+  if (src == "two_bodies") {
+    const Spheres b = lattice_pile(sc.real("initial.body2_radius"), s, rho, jit, seed + 1);
+    append_body(sp, b, sc.vec3("initial.body2_offset"), sc.vec3("initial.body2_velocity"));
+  }
+  if (sp.size() == 0) throw common::InputError("initial: the generator produced no spheres");
+  return sp;
+}
+
+SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info) {
+  SimConfig c;
+  std::ostringstream os;
+  c.self_gravity = sc.boolean("gravity.self");
+  c.direct_gravity = sc.string("gravity.solver") == "direct";
+  c.gravity.G = sc.real("gravity.G");
+  c.gravity.theta = sc.real("gravity.theta");
+  c.gravity.bucket = static_cast<int>(sc.integer("gravity.bucket"));
+  c.gravity_every = static_cast<int>(sc.integer("gravity.every"));
+  c.uniform_g = sc.vec3("gravity.uniform");
+  c.contacts = sc.boolean("contact.enabled");
+  c.min_steps_per_contact = sc.real("time.min_steps_per_contact");
+  c.dt = sc.real("time.dt");
+  double mmin = INFINITY, mmax = 0, smin = INFINITY, M = 0;
+  Vec3 com = Vec3::Zero();
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    mmin = std::min(mmin, sp.m[i]);
+    mmax = std::max(mmax, sp.m[i]);
+    smin = std::min(smin, sp.s[i]);
+    M += sp.m[i];
+    com += sp.m[i] * sp.x[i];
+  }
+  com /= M;
+  if (c.contacts) {
+    ContactParams p = builtin_contact_parts().resolve(sc);
+    if (sc.string("contact.preset") == "gravel") {
+      const ContactParams g = gravel_preset(p.kn);
+      if (!sc.given("contact.parts")) p.parts = g.parts;
+      if (!sc.given("contact.damping.en")) p.en = g.en;
+      if (!sc.given("contact.tangential.et")) p.et = g.et;
+      if (!sc.given("contact.tangential.mu_s")) p.mu_s = g.mu_s;
+      if (!sc.given("contact.rolling.mu_r")) p.mu_r = g.mu_r;
+      if (!sc.given("contact.twisting.mu_t")) p.mu_t = g.mu_t;
+      if (!sc.given("contact.beta")) p.beta = g.beta;
+    }
+    if (p.kn <= 0.0) {
+      double vmax = sc.real("contact.vmax");
+      if (vmax <= 0.0) {
+        double R = 0;
+        for (std::size_t i = 0; i < sp.size(); ++i) R = std::max(R, (sp.x[i] - com).norm() + sp.s[i]);
+        vmax = 1.2 * std::sqrt(2.0 * c.gravity.G * M / R);
+        double vrel = 0;
+        for (std::size_t i = 0; i < sp.size(); ++i) vrel = std::max(vrel, sp.v[i].norm());
+        vmax = std::max(vmax, 2.0 * vrel);
+        os << "k_n rule: vmax = " << vmax << " m/s (1.2 v_esc or 2 max|v|)\n";
+      }
+      if (!(vmax > 0)) throw common::InputError(sc.where("contact.vmax") + ": cannot derive k_n (no speed scale); give contact.normal.kn or contact.vmax");
+      const DtAdvice a = choose_kn_dt(mmax, smin, vmax, (p.parts & kPartDamping) ? p.en : 1.0,
+                                      sc.real("contact.overlap_fraction"),
+                                      sc.real("time.steps_per_contact"));
+      p.kn = a.kn;
+      os << "k_n = " << p.kn << " N/m (kinetic rule, m = " << mmax << " kg, s = " << smin << " m)\n";
+    }
+    c.contact = p;
+    for (std::size_t w = 0; w < sc.count("wall"); ++w) {
+      const common::Scene e = sc.element("wall", w);
+      c.walls.push_back(Plane{e.vec3("point"), e.vec3("normal")});
+    }
+    c.skin = sc.real("contact.skin");
+    c.max_overlap_frac = sc.real("contact.max_overlap_fraction");
+    if (c.dt <= 0.0) {
+      c.dt = shortest_contact_time(p, sp, !c.walls.empty()) / sc.real("time.steps_per_contact");
+      os << "dt = " << c.dt << " s (tau_min / " << sc.real("time.steps_per_contact") << ")\n";
+    }
+  }
+  if (!(c.dt > 0.0))
+    throw common::InputError(sc.where("time.dt") + ": must be > 0 when contacts are off");
+  if (info) *info = os.str();
+  return c;
+}
+
+}  // namespace ssdem

@@ -1,0 +1,210 @@
+// ssdem-grav end to end: restart from a checkpoint is bit-identical to an uninterrupted run
+// (also after SIGTERM), exit codes 2 (unresolvable dt) and 3 (runaway overlap, state saved),
+// per-sphere fields (damage) carried from the input file to snapshots, scene-driven physics
+// selection (no tree / no neighbour list when not needed).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "common/sphere_file.hpp"
+#include "common/status.hpp"
+#include "ssdem/generators.hpp"
+#include "ssdem/io.hpp"
+#include "ssdem/run.hpp"
+#include "ssdem/scene_setup.hpp"
+
+using namespace ssdem;
+namespace fs = std::filesystem;
+
+namespace {
+const std::string kExe = SSDEM_GRAV_EXE;
+
+int run_cmd(const std::string& args) {
+  const std::string cmd = "OMP_NUM_THREADS=1 " + kExe + " --quiet " + args + " > /dev/null 2>&1";
+  const int rc = std::system(cmd.c_str());
+  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+std::string tmpdir(const std::string& name) {
+  const fs::path p = fs::temp_directory_path() / ("ssdem_test_" + name + "_" + std::to_string(getpid()));
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p.string();
+}
+const char* kScene = R"(
+[time]
+end = 30.0
+[initial]
+source = "lattice_pile"
+body_radius = 6.0
+sphere_radius = 1.0
+density = 2000.0
+jitter = 0.0
+angular_velocity = [0.0, 0.0, 2e-4]
+[gravity]
+every = 3
+[contact]
+preset = "gravel"
+[output]
+series_every = 30
+checkpoint_wall = 0.0
+progress_interval = 100.0
+)";
+std::string write_scene(const std::string& dir) {
+  const std::string p = dir + "/scene.toml";
+  std::ofstream(p) << kScene;
+  return p;
+}
+common::SphereSet last_snapshot(const std::string& dir) {
+  std::string best;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string n = e.path().filename().string();
+    if (n.rfind("snap_", 0) == 0 && e.path().extension() == ".h5" && n > fs::path(best).filename().string())
+      best = e.path().string();
+  }
+  return common::read_sphere_set(best);
+}
+}  // namespace
+
+TEST(App, RestartFromCheckpointIsBitIdentical) {
+  const std::string d = tmpdir("restart");
+  const std::string scene = write_scene(d);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/full\\\""), 0);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --set time.end=13.0"), 0);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --restart " + d +
+                    "/part/checkpoint.h5"),
+            0);
+  const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
+  ASSERT_EQ(a.step, b.step);
+  ASSERT_GT(a.step, 100);
+  ASSERT_EQ(a.position, b.position);
+  ASSERT_EQ(a.velocity, b.velocity);
+  ASSERT_EQ(a.spin, b.spin);
+  EXPECT_GT(read_checkpoint(d + "/part/checkpoint.h5").history.size(), 100u);
+  // the series file was continued, not restarted
+  std::ifstream f(d + "/part/series.csv");
+  std::string line, last;
+  int rows = 0;
+  while (std::getline(f, line)) {
+    ++rows;
+    last = line;
+  }
+  EXPECT_GT(rows, 3);
+  fs::remove_all(d);
+}
+
+TEST(App, SigtermWritesCheckpointAndRestartMatches) {
+  const std::string d = tmpdir("sigterm");
+  const std::string scene = write_scene(d);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/full\\\" --set time.end=150.0"), 0);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    setenv("OMP_NUM_THREADS", "1", 1);
+    const std::string od = "output.dir=\"" + d + "/part\"";
+    execl(kExe.c_str(), kExe.c_str(), "--quiet", "--scene", scene.c_str(), "--set", od.c_str(),
+          "--set", "time.end=150.0", static_cast<char*>(nullptr));
+    _exit(99);
+  }
+  // wait until the run is under way, then interrupt it
+  auto rows = [&]() {
+    std::ifstream f(d + "/part/series.csv");
+    std::string l;
+    int n = 0;
+    while (std::getline(f, l)) ++n;
+    return n;
+  };
+  for (int i = 0; i < 2000 && rows() < 6; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  kill(pid, SIGTERM);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  const int rc = WEXITSTATUS(status);
+  if (rc == 0) GTEST_SKIP() << "run finished before the signal arrived";
+  ASSERT_EQ(rc, 128 + SIGTERM);
+  ASSERT_TRUE(fs::exists(d + "/part/checkpoint.h5"));
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --set time.end=150.0 --restart " +
+                    d + "/part/checkpoint.h5"),
+            0);
+  const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
+  ASSERT_EQ(a.step, b.step);
+  ASSERT_EQ(a.position, b.position);
+  ASSERT_EQ(a.spin, b.spin);
+  const SimState st = read_checkpoint(d + "/part/checkpoint.h5");
+  EXPECT_GT(st.history.size(), st.sp.size());  // contact history really was carried
+  fs::remove_all(d);
+}
+
+TEST(App, RefusesUnresolvableDtWithExit2) {
+  const std::string d = tmpdir("dt");
+  const std::string scene = write_scene(d);
+  // k_n 100x stiffer than the rule at the dt the rule would give: 3 steps per contact
+  EXPECT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/o\\\" --set time.dt=0.07 --set contact.normal.kn=1e6"), 2);
+  fs::remove_all(d);
+}
+
+TEST(App, RunawayOverlapStopsWithExit3AndSavesState) {
+  const std::string d = tmpdir("overlap");
+  // two spheres, far too soft for a 50 m/s impact
+  Spheres sp;
+  sp.push(0, Vec3(-1.5, 0, 0), Vec3(25, 0, 0), Vec3::Zero(), 1000.0, 1.0);
+  sp.push(1, Vec3(1.5, 0, 0), Vec3(-25, 0, 0), Vec3::Zero(), 1000.0, 1.0);
+  write_snapshot(d + "/in.h5", sp, 0.0, 0, common::Provenance{"test", "", "", "", ""});
+  std::ofstream(d + "/s.toml") << "[time]\nend = 1.0\n[initial]\nsource = \"file\"\nfile = \"" << d
+                               << "/in.h5\"\n[gravity]\nself = false\n[contact]\nnormal.kn = 1e3\n"
+                               << "[output]\ndir = \"" << d << "/o\"\n";
+  EXPECT_EQ(run_cmd("--scene " + d + "/s.toml"), 3);
+  ASSERT_TRUE(fs::exists(d + "/o/failed_state.h5"));
+  const SimState st = read_checkpoint(d + "/o/failed_state.h5");
+  EXPECT_EQ(st.sp.size(), 2u);
+  const double gap = (st.sp.x[1] - st.sp.x[0]).norm() - 2.0;
+  EXPECT_GT(gap, -1.0);  // the saved state is a good one (overlap below the radius)
+  fs::remove_all(d);
+}
+
+TEST(App, DamageCarriedFromInputFileToSnapshots) {
+  const std::string d = tmpdir("damage");
+  Spheres sp = lattice_pile(4.0, 1.0, 2000.0, 0.05, 2);
+  common::Field dmg{"damage", "1", 1, {}, "Tonge-Ramesh damage"};
+  for (std::size_t i = 0; i < sp.size(); ++i) dmg.values.push_back(0.01 * static_cast<double>(i % 100));
+  sp.carried.push_back(dmg);
+  write_snapshot(d + "/in.h5", sp, 0.0, 0, common::Provenance{"test", "", "", "", ""});
+  std::ofstream(d + "/s.toml") << "[time]\nend = 5.0\n[initial]\nsource = \"file\"\nfile = \"" << d
+                               << "/in.h5\"\n[contact]\npreset = \"gravel\"\n[output]\ndir = \"" << d
+                               << "/o\"\ntimes = [2.0]\n";
+  ASSERT_EQ(run_cmd("--scene " + d + "/s.toml"), 0);
+  const auto out = last_snapshot(d + "/o");
+  ASSERT_EQ(out.id, sp.id);
+  const common::Field* f = out.field("damage");
+  ASSERT_NE(f, nullptr);
+  EXPECT_EQ(f->values, dmg.values);
+  int nsnap = 0;
+  for (const auto& e : fs::directory_iterator(d + "/o"))
+    if (e.path().extension() == ".h5" && e.path().filename().string().rfind("snap_", 0) == 0) ++nsnap;
+  EXPECT_EQ(nsnap, 3);  // t = 0, t = 2 (output.times), end
+  fs::remove_all(d);
+}
+
+TEST(Scene, PhysicsSelectionBuildsOnlyWhatIsNeeded) {
+  const common::Schema schema = ssdem_schema();
+  auto make = [&](const std::string& extra) {
+    const common::Scene sc = common::Scene::parse(
+        schema, std::string("[time]\nend = 1.0\ndt = 0.01\n[initial]\nbody_radius = 4.0\n") + extra, "t");
+    Spheres sp = initial_spheres(sc);
+    return std::make_unique<Simulation>(sp, sim_config(sc, sp));
+  };
+  auto grav_only = make("[contact]\nenabled = false\n");
+  EXPECT_TRUE(grav_only->has_tree());
+  EXPECT_FALSE(grav_only->has_contacts());
+  auto gran_only = make("[gravity]\nself = false\nuniform = [0.0, 0.0, -9.81]\n[contact]\nnormal.kn = 1e5\n");
+  EXPECT_FALSE(gran_only->has_tree());
+  EXPECT_TRUE(gran_only->has_contacts());
+  EXPECT_EQ(gran_only->contact_system()->params().parts, 31u & 15u);  // default parts: all on
+  auto normal_only = make("[gravity]\nself = false\n[contact]\nnormal.kn = 1e5\nparts = \"normal\"\n");
+  EXPECT_EQ(normal_only->contact_system()->params().parts, 0u);
+  EXPECT_THROW(make("[contact]\nparts = \"normal,hertz\"\n"), common::InputError);
+}
