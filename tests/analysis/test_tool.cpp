@@ -1,0 +1,132 @@
+// ssdem-analyse end to end: a time series of constructed sphere files -> JSON/CSV outputs with
+// the expected numbers; bad inputs -> exit code 2 naming the file and key.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "common/particle_file.hpp"
+#include "common/sphere_file.hpp"
+#include "sphere_configs.hpp"
+
+namespace fs = std::filesystem;
+using analysis_test::add;
+using analysis_test::add_cube;
+
+namespace {
+struct RunResult {
+  int code;
+  std::string out;
+};
+RunResult run(const std::string& args) {
+  const std::string log = (fs::temp_directory_path() / "ssdem_analyse_test.log").string();
+  const int rc = std::system((std::string(SSDEM_ANALYSE_EXE) + " " + args + " > " + log + " 2>&1").c_str());
+  std::ifstream f(log);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, ss.str()};
+}
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+common::Provenance prov() { return common::Provenance{"test", "0", "0", "test", ""}; }
+
+// t = 0: 64 touching spheres (target, damage 0.2) + 1 small sphere (impactor remnant) touching;
+// t = 100 s: same cube, 2 escaping ejecta (damage 1) and one slow bound fragment (damage 0.5).
+common::SphereSet snapshot(double t) {
+  common::SphereSet s;
+  s.time = t;
+  s.step = static_cast<std::int64_t>(t);
+  add_cube(s, {0, 0, 0}, 4, 100.0, 1e12, {0, 0, -0.01}, 0.2);
+  if (t == 0) {
+    add(s, {300, 300, 700 + 10}, 10.0, 1e9, {0, 0, -0.01}, 0.9);
+  } else {
+    add(s, {300, 300, 5e5}, 10.0, 1e9, {0, 0, 3000.0}, 1.0);
+    add(s, {300, -5e5, 300}, 10.0, 1e9, {0, -2000.0, 0}, 1.0);
+    add(s, {300, 300, 3000}, 10.0, 1e10, {0, 0, 0.01}, 0.5);
+  }
+  return s;
+}
+}  // namespace
+
+TEST(AnalyseTool, TimeSeriesSummaryAndProfiles) {
+  const fs::path dir = fs::temp_directory_path() / "ssdem_analyse_tool";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  common::write_sphere_set((dir / "late.h5").string(), snapshot(100.0), prov());
+  common::write_sphere_set((dir / "early.h5").string(), snapshot(0.0), prov());
+  // late given first: the tool orders by time
+  const RunResult r = run((dir / "late.h5").string() + " " + (dir / "early.h5").string() + " -o " + (dir / "out/an").string() +
+                    " --impactor-mass 1e9 --impactor-velocity '[0,0,-5000]' --parent-mass 6.4e13");
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string js = slurp(dir / "out/an.json");
+  EXPECT_NE(js.find("\"format\": \"ssdem-analyse.summary\""), std::string::npos);
+  EXPECT_NE(js.find("\"M_LR_over_M_PB\": 1,"), std::string::npos) << js;  // 64e12 / 6.4e13
+  EXPECT_NE(js.find("\"n_clumps\": 4,"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"escaping_mass\": 2000000000,"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"bound_mass\": 64010000000000,"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"definitions\""), std::string::npos);
+  const std::string ts = slurp(dir / "out/an.timeseries.csv");
+  std::istringstream lines(ts);
+  std::string header, row0, row1;
+  std::getline(lines, header);
+  std::getline(lines, row0);
+  std::getline(lines, row1);
+  EXPECT_EQ(header.rfind("time,M_LR_over_M_PB,bound_mass_fraction,beta,n_clumps,escaping_mass,", 0), 0u);
+  EXPECT_EQ(row0.rfind("0,1,1.000015625,", 0), 0u) << row0;  // t = 0: the slow impactor sphere is bound
+  EXPECT_EQ(row1.rfind("100,1,1.00015625,", 0), 0u) << row1;
+  // beta at t = 100: P_bound.z = 64e12 * -0.01 + 1e10 * 0.01 = -6.399e11, / (1e9 * -5000) -> 0.12798
+  EXPECT_NE(row1.find(",0.12798,4,"), std::string::npos) << row1;
+  const std::string dc = slurp(dir / "out/an.damage.csv");
+  EXPECT_NE(dc.find("nbody_end,"), std::string::npos);
+  EXPECT_NE(dc.find("handoff,"), std::string::npos);
+  EXPECT_NE(dc.find(",bound,axial,"), std::string::npos);
+}
+
+TEST(AnalyseTool, BadInputsExitWithCodeTwoNamingFileAndKey) {
+  const fs::path dir = fs::temp_directory_path() / "ssdem_analyse_bad";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // no inputs
+  RunResult r = run("-o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2) << r.out;
+  // missing file
+  r = run((dir / "nope.h5").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("nope.h5"), std::string::npos) << r.out;
+  // an MPM particle snapshot given as a sphere time series
+  common::ParticleSnapshot p;
+  p.id = {0};
+  p.position = {0, 0, 0};
+  p.velocity = {0, 0, 0};
+  p.mass = {1};
+  p.volume = {1};
+  p.size = {1, 1, 1};
+  p.material = {0};
+  p.grid.shape = {2, 2, 2};
+  common::write_particle_snapshot((dir / "mpm.h5").string(), p, prov());
+  r = run((dir / "mpm.h5").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("mpm.h5"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("format"), std::string::npos) << r.out;
+  // MPM snapshot without damage given for the profile
+  common::write_sphere_set((dir / "s.h5").string(), snapshot(0.0), prov());
+  r = run((dir / "s.h5").string() + " --mpm " + (dir / "mpm.h5").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("/particles/damage"), std::string::npos) << r.out;
+  // unknown scene key
+  r = run((dir / "s.h5").string() + " --set fof.linking=0.3 -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("fof.linking"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(dir / "x.json"));
+  // a good run for contrast
+  r = run((dir / "s.h5").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "x.json"));
+}
