@@ -109,6 +109,7 @@ void BM_DiskStep(benchmark::State& st) {
     psteps += r.steps * static_cast<long>(r.particles);
     st.counters["steps"] = r.steps;
     st.counters["particles"] = r.particles;
+    st.counters["bytes_per_particle"] = r.bytes_per_particle;
   }
   st.counters["us_per_particle_step"] = 1e6 * wall / psteps;
 }

@@ -54,6 +54,7 @@ struct Result {
   std::vector<float> snap_x, snap_y, snap_z, snap_D;  ///< disk particles at failure
   std::int64_t steps = 0;
   std::size_t particles = 0;
+  double bytes_per_particle = 0;  ///< solver storage (particles + material state) per particle
   double wall_s = 0;
   bool failed_numerically = false;
   std::string failure;
@@ -143,6 +144,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   });
   Result res;
   res.particles = n;
+  res.bytes_per_particle = s.bytes_per_particle();
   const double E = 9 * tp.eos.A * tp.G0 / (3 * tp.eos.A + tp.G0);
   const double t_end = c.t_ramp + c.t_max_factor * 60e6 / (E * c.rate);
   const auto t0 = std::chrono::steady_clock::now();

@@ -16,6 +16,26 @@
 ///  8. Specific energy e_{n+1} = e_n + dt/(2 rho0) (tau_n + tau_{n+1}) : d (El Mir Tillotson
 ///     coupling is not specified; this explicit-energy update is the SPH-Tillotson convention).
 /// Kirchhoff mean stress p_K = J_EL (-p_T(rho0/J_EL, e)) K(D)/K0 (moduli.hpp).
+///
+/// QUIRKs of the public Uintah PTR code (tonge-ramesh spec) and what this implementation does:
+///  * flaw-size spread sqrt(E[s^6]/n) (§4.4): FIXED, variance of s^3 (flaws.hpp) — statistics.
+///  * Kirchhoff stress fed to the wing-crack routine (§7.1): FIXED, Cauchy (physically the far
+///    field; difference O(|J-1|)).
+///  * friction term active on open (tensile) flaw faces (§7.3): FIXED by default (no friction on
+///    open faces); Params::friction_in_tension reproduces PTR (lowers tensile onset ~10 %).
+///  * sub-step stress at the sub-step start, mixed volumetric measures (§7.5): FIXED, ln J_EL and
+///    dev(be) interpolated, stress at the sub-step end.
+///  * useOldStress divides by J_old (§7.5.3): not applicable, only the trial-stress path
+///    (useOldStress = 0) is implemented.
+///  * apex mean stress B/3 in one branch (§8): FIXED, B/sqrt3 in both (granular.hpp).
+///  * PTR wave speed = 0 with damage on / rho0 with granular flow (§12): FIXED, wave_speed() uses
+///    the undamaged tangent K_T + 4G0/3 and the current bulk density (conservative).
+///  * Uintah wrapper passes J one increment ahead (§12): FIXED, J_n = J_{n+1}/det(I + L dt)
+///    (style.cpp via mpmfrag::jacobian_old).
+///  * PTR throws on non-converged inner iterations (§12): replaced by bounded iterations with
+///    fallbacks (granular.cpp) and a bad_input status that the solver turns into exit 3.
+/// Deviations: no flaw-interaction ellipse (far-field stress drives the wing cracks), K0 = A
+/// (reference) in the damaged-moduli formulas, explicit specific energy e_n in the pressure.
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
