@@ -180,27 +180,40 @@ void Solver::scatter() {
           }
         }
         const std::size_t base = static_cast<std::size_t>(X.first) + static_cast<std::size_t>(sx) * (Y.first + static_cast<std::size_t>(sy) * Z.first);
+        // Tensor-product factorisation: node (a,b,c) gets W = wx_a wyz, grad = (dwx_a wyz, wx_a dyz, wx_a ydz),
+        // so f_i += dwx_a (s_i0 wyz) + wx_a (s_i1 dyz + s_i2 ydz + fe_i wyz).
         for (int c = 0; c < NPA; ++c) {
           for (int bb = 0; bb < NPA; ++bb) {
             const double wyz = Y.w[bb] * Z.w[c];
-            const double dyz = Y.dw[bb] * Z.w[c];
-            const double ydz = Y.w[bb] * Z.dw[c];
             Node* row = nodes + base + static_cast<std::size_t>(sx) * (bb + static_cast<std::size_t>(sy) * c);
+            [[maybe_unused]] const double cm = m * wyz;
+            [[maybe_unused]] const double cp0 = mv0 * wyz, cp1 = mv1 * wyz, cp2 = mv2 * wyz;
+            double A0 = 0, A1 = 0, A2 = 0, B0 = 0, B1 = 0, B2 = 0;
+            if constexpr ((MODE & kForce) != 0) {
+              const double dyz = Y.dw[bb] * Z.w[c];
+              const double ydz = Y.w[bb] * Z.dw[c];
+              A0 = s00 * wyz;
+              A1 = s01 * wyz;
+              A2 = s02 * wyz;
+              B0 = s01 * dyz + s02 * ydz + fe0 * wyz;
+              B1 = s11 * dyz + s12 * ydz + fe1 * wyz;
+              B2 = s12 * dyz + s22 * ydz + fe2 * wyz;
+            }
 #pragma GCC unroll 3
             for (int a = 0; a < NPA; ++a) {
               Node& nd = row[a];
-              const double W = X.w[a] * wyz;
-              if constexpr (MODE & kMass) nd.m += W * m;
-              if constexpr (MODE & kMom) {
-                nd.p[0] += W * mv0;
-                nd.p[1] += W * mv1;
-                nd.p[2] += W * mv2;
+              const double wx = X.w[a];
+              if constexpr ((MODE & kMass) != 0) nd.m += wx * cm;
+              if constexpr ((MODE & kMom) != 0) {
+                nd.p[0] += wx * cp0;
+                nd.p[1] += wx * cp1;
+                nd.p[2] += wx * cp2;
               }
-              if constexpr (MODE & kForce) {
-                const double g0 = X.dw[a] * wyz, g1 = X.w[a] * dyz, g2 = X.w[a] * ydz;
-                nd.f[0] += s00 * g0 + s01 * g1 + s02 * g2 + W * fe0;
-                nd.f[1] += s01 * g0 + s11 * g1 + s12 * g2 + W * fe1;
-                nd.f[2] += s02 * g0 + s12 * g1 + s22 * g2 + W * fe2;
+              if constexpr ((MODE & kForce) != 0) {
+                const double dx = X.dw[a];
+                nd.f[0] += dx * A0 + wx * B0;
+                nd.f[1] += dx * A1 + wx * B1;
+                nd.f[2] += dx * A2 + wx * B2;
               }
             }
           }
@@ -408,33 +421,55 @@ void Solver::g2p(double dt) {
         const std::size_t base = static_cast<std::size_t>(X.first) + static_cast<std::size_t>(sx) * (Y.first + static_cast<std::size_t>(sy) * Z.first);
         double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0;
         double L00 = 0, L01 = 0, L02 = 0, L10 = 0, L11 = 0, L12 = 0, L20 = 0, L21 = 0, L22 = 0;
+        // Tensor-product factorisation: per node row (b,c) first sum over a with wx_a and dwx_a.
         for (int cc = 0; cc < NPA; ++cc) {
           for (int bb = 0; bb < NPA; ++bb) {
             const double wyz = Y.w[bb] * Z.w[cc];
-            const double dyz = Y.dw[bb] * Z.w[cc];
-            const double ydz = Y.w[bb] * Z.dw[cc];
             const Node* row = nodes + base + static_cast<std::size_t>(sx) * (bb + static_cast<std::size_t>(sy) * cc);
+            double s0 = 0, s1 = 0, s2 = 0, o0 = 0, o1 = 0, o2 = 0, d0 = 0, d1 = 0, d2 = 0, t0 = 0, t1 = 0, t2 = 0;
 #pragma GCC unroll 3
             for (int a = 0; a < NPA; ++a) {
               const Node& nd = row[a];
-              const double W = X.w[a] * wyz;
-              if constexpr ((flags & (kVel | kPos)) != 0) {
-                vs0 += W * nd.f[0];
-                vs1 += W * nd.f[1];
-                vs2 += W * nd.f[2];
+              const double wx = X.w[a];
+              if constexpr ((flags & (kVel | kPos)) != 0 || lslot == 4) {
+                s0 += wx * nd.f[0];
+                s1 += wx * nd.f[1];
+                s2 += wx * nd.f[2];
               }
-              if constexpr ((flags & kVel) != 0) {
-                vo0 += W * nd.p[0];
-                vo1 += W * nd.p[1];
-                vo2 += W * nd.p[2];
+              if constexpr ((flags & kVel) != 0 || lslot == 1) {
+                o0 += wx * nd.p[0];
+                o1 += wx * nd.p[1];
+                o2 += wx * nd.p[2];
               }
               if constexpr ((flags & kGrad) != 0) {
-                const double g0 = X.dw[a] * wyz, g1 = X.w[a] * dyz, g2 = X.w[a] * ydz;
+                const double dx = X.dw[a];
                 const double* vl = lslot == 1 ? nd.p : nd.f;
-                L00 += vl[0] * g0; L01 += vl[0] * g1; L02 += vl[0] * g2;
-                L10 += vl[1] * g0; L11 += vl[1] * g1; L12 += vl[1] * g2;
-                L20 += vl[2] * g0; L21 += vl[2] * g1; L22 += vl[2] * g2;
+                d0 += dx * vl[0];
+                d1 += dx * vl[1];
+                d2 += dx * vl[2];
               }
+            }
+            if constexpr ((flags & (kVel | kPos)) != 0) {
+              vs0 += wyz * s0;
+              vs1 += wyz * s1;
+              vs2 += wyz * s2;
+            }
+            if constexpr ((flags & kVel) != 0) {
+              vo0 += wyz * o0;
+              vo1 += wyz * o1;
+              vo2 += wyz * o2;
+            }
+            if constexpr ((flags & kGrad) != 0) {
+              if constexpr (lslot == 1) {
+                t0 = o0; t1 = o1; t2 = o2;
+              } else {
+                t0 = s0; t1 = s1; t2 = s2;
+              }
+              const double dyz = Y.dw[bb] * Z.w[cc];
+              const double ydz = Y.w[bb] * Z.dw[cc];
+              L00 += wyz * d0; L01 += dyz * t0; L02 += ydz * t0;
+              L10 += wyz * d1; L11 += dyz * t1; L12 += ydz * t1;
+              L20 += wyz * d2; L21 += dyz * t2; L22 += ydz * t2;
             }
           }
         }

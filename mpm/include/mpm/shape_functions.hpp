@@ -99,7 +99,7 @@ struct AxisWeights {
 
 /// Per-axis weights for a particle at `x` (m), on an axis with node 0 at `origin` and spacing
 /// `h`; `lp` is the particle half-width (ignored for linear). Does not check the grid bounds.
-inline AxisWeights axis_weights(ShapeKind kind, double x, double origin, double h, double lp) {
+[[gnu::always_inline]] inline AxisWeights axis_weights(ShapeKind kind, double x, double origin, double h, double lp) {
   AxisWeights a;
   const double xi = (x - origin) / h;
   const double fl = std::floor(xi);
