@@ -126,24 +126,28 @@ FofResult friends_of_friends(const double* position, const double* radius, const
       const double lim = rs[a] + rs[b] + eps;
       return lim > 0.0 && dx * dx + dy * dy + dz * dz < lim * lim;
     };
-    // 13 forward neighbour offsets (each unordered cell pair visited once).
-    static const int off[13][3] = {{1, 0, 0},  {-1, 1, 0}, {0, 1, 0},  {1, 1, 0},  {-1, -1, 1},
-                                   {0, -1, 1}, {1, -1, 1}, {-1, 0, 1}, {0, 0, 1},  {1, 0, 1},
-                                   {-1, 1, 1}, {0, 1, 1},  {1, 1, 1}};
+    // The 13 forward neighbour cells (lexicographically larger keys) lie in 4 columns (dx, dy) =
+    // (0,1), (1,-1), (1,0), (1,1) with dz = -1..1, each contiguous in the sorted cell array, plus
+    // (0,0,+1), which if occupied is the next cell. One binary search per column.
+    static const int cols[4][2] = {{0, 1}, {1, -1}, {1, 0}, {1, 1}};
+    auto pair_cells = [&](std::int64_t c, std::int64_t d) {
+      for (std::int64_t a = start[c]; a < start[c + 1]; ++a)
+        for (std::int64_t b = start[d]; b < start[d + 1]; ++b)
+          if (linked(a, b)) uf.unite(ids[a], ids[b]);
+    };
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::int64_t c = 0; c < nc; ++c) {
       const std::int64_t b0 = start[c], b1 = start[c + 1];
       for (std::int64_t a = b0; a < b1; ++a)
         for (std::int64_t b = a + 1; b < b1; ++b)
           if (linked(a, b)) uf.unite(ids[a], ids[b]);
-      for (const auto& o : off) {
-        const CellKey nk{cells[c].x + o[0], cells[c].y + o[1], cells[c].z + o[2]};
-        const auto it = std::lower_bound(cells.begin(), cells.end(), nk);
-        if (it == cells.end() || !(*it == nk)) continue;
-        const std::int64_t d = it - cells.begin();
-        for (std::int64_t a = b0; a < b1; ++a)
-          for (std::int64_t b = start[d]; b < start[d + 1]; ++b)
-            if (linked(a, b)) uf.unite(ids[a], ids[b]);
+      const CellKey& k = cells[c];
+      if (c + 1 < nc && cells[c + 1] == CellKey{k.x, k.y, k.z + 1}) pair_cells(c, c + 1);
+      for (const auto& o : cols) {
+        const CellKey lo{k.x + o[0], k.y + o[1], k.z - 1};
+        auto it = std::lower_bound(cells.begin(), cells.end(), lo);
+        for (; it != cells.end() && it->x == lo.x && it->y == lo.y && it->z <= k.z + 1; ++it)
+          pair_cells(c, it - cells.begin());
       }
     }
   }
