@@ -159,7 +159,11 @@ def classify_h5(path, run):
     if fmt_ == "mpm-frag.particles":
         run.mpm.append((t, path))
     elif fmt_ == "ssdem.spheres":
-        (run.handoff if tool == "mpm2spheres" else run.nbody).append((t, path))
+        # mpm2spheres stamps the MPM end time; ssdem-grav restarts its clock at 0 from that state
+        if tool == "mpm2spheres":
+            run.handoff.append((0.0, path))
+        else:
+            run.nbody.append((t, path))
 
 
 def discover(run_dir, out_dir, args):
@@ -194,7 +198,7 @@ def discover(run_dir, out_dir, args):
     if args.spheres:
         run.nbody = [(read_time(p), p) for p in args.spheres]
     if args.handoff:
-        run.handoff = [(read_time(args.handoff), args.handoff)]
+        run.handoff = [(0.0, args.handoff)]
     if args.audit:
         run.audit = args.audit
     if args.analysis:
@@ -298,7 +302,7 @@ def parse_timing_file(path):
                 out.append((stage, 3600 * h + 60 * float(m.group(2)) + float(m.group(3))))
             else:
                 m = re.search(r"^real\s+([\d.]+)", text, re.M) or re.search(r"wall_s\s*=\s*([\d.eE+-]+)", text) \
-                    or re.match(r"\s*([\d.eE+-]+)\s*$", text)
+                    or re.search(r"^\s*([\d.]+(?:[eE][+-]?\d+)?)\s*$", text, re.M)  # `time -f %e -o FILE`: a number
                 if m:
                     out.append((stage, float(m.group(1))))
     except Exception:

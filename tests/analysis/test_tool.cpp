@@ -60,7 +60,12 @@ TEST(AnalyseTool, TimeSeriesSummaryAndProfiles) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   common::write_sphere_set((dir / "late.h5").string(), snapshot(100.0), prov());
-  common::write_sphere_set((dir / "early.h5").string(), snapshot(0.0), prov());
+  // the hand-off file carries the MPM end time; on the N-body clock it is t = 0
+  common::SphereSet handoff = snapshot(0.0);
+  handoff.time = 30.0;
+  common::Provenance hp = prov();
+  hp.tool = "mpm2spheres";
+  common::write_sphere_set((dir / "early.h5").string(), handoff, hp);
   // late given first: the tool orders by time
   const RunResult r = run((dir / "late.h5").string() + " " + (dir / "early.h5").string() + " -o " + (dir / "out/an").string() +
                     " --impactor-mass 1e9 --impactor-velocity '[0,0,-5000]' --parent-mass 6.4e13");

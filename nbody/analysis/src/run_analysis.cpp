@@ -38,8 +38,9 @@ Eigen::Vector3d centre_of_mass(const double* x, const double* m, std::size_t n, 
 }
 
 struct Header {
-  std::string file, format;
-  double time = 0.0;
+  std::string file, format, tool;
+  double time = 0.0;       ///< N-body clock: 0 for the hand-off file (ssdem-grav starts at t = 0)
+  double file_time = 0.0;  ///< the file's own `time` attribute
 };
 
 Header read_header(const std::string& path) {
@@ -50,7 +51,10 @@ Header read_header(const std::string& path) {
   h.file = path;
   if (!h5::has_attr(f, "format")) throw common::InputError(path, "/format", "missing format attribute (not a suite file)");
   h.format = h5::read_attr_string(f, "format", path);
-  if (h5::has_attr(f, "time")) h.time = h5::read_attr_double(f, "time", path);
+  if (h5::has_attr(f, "time")) h.file_time = h5::read_attr_double(f, "time", path);
+  if (h5::exists(f, "provenance")) h.tool = h5::read_provenance(f, path).tool;
+  // mpm2spheres stamps its output with the MPM time; ssdem-grav restarts the clock at 0 from it.
+  h.time = h.tool == "mpm2spheres" ? 0.0 : h.file_time;
   return h;
 }
 
@@ -140,12 +144,13 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
       }
       const common::Field* d = s.field(cfg.damage_field);
       if (d && d->ncomp == 1 && heads.size() > 1)
-        add_profiles(o, cfg, heads[k].file, "handoff", s.time, "all", s.position.data(), s.mass.data(),
+        add_profiles(o, cfg, heads[k].file, "handoff", heads[k].time, "all", s.position.data(), s.mass.data(),
                      d->values.data(), s.count(), nullptr, axis);
     }
     std::vector<char> bound;
     SnapshotResult r = analyse_snapshot(s, cfg, o.link_length, k + 1 == heads.size() ? &bound : nullptr);
     r.file = heads[k].file;
+    r.time = heads[k].time;
     spdlog::info("{}: t = {:.6g} s, {} spheres, {} clumps, M_LR/M_PB = {:.6f}, bound {:.6f}{}", r.file, r.time,
                  r.n_spheres, r.n_clumps, r.bound.lr_mass / o.parent_body_mass,
                  r.bound.bound_mass / o.parent_body_mass,

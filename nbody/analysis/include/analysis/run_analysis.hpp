@@ -53,7 +53,9 @@ struct AnalysisOutcome {
   std::vector<std::string> notes;
 };
 
-/// Read the snapshots of `cfg.inputs` (sorted by their `time` attribute), analyse each, compute
+/// Read the snapshots of `cfg.inputs` (stably sorted by time on the N-body clock: the `time`
+/// attribute, except 0 for a file written by mpm2spheres, since ssdem-grav starts its clock at 0
+/// from the hand-off state), analyse each, compute
 /// the damage profiles. Throws common::InputError (bad file, naming file and key).
 AnalysisOutcome run_analysis(const AnalyseConfig& cfg);
 
