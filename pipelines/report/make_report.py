@@ -543,6 +543,7 @@ def main(argv=None):
                 ("beta (largest remnant only)", fmt(fin.get("beta_lr"), 5)),
                 ("beta from escaping ejecta, 1 - P_esc.U/(mU)", fmt(fin.get("beta_ejecta"), 5)),
                 ("beta, vector form (Cheng et al. 2023)", fmt(fin.get("beta_vector"), 5)),
+                ("beta with the snapshot's total momentum as reference", fmt(fin.get("beta_total"), 5)),
                 ("momentum conservation |P - mU|/(mU)", fmt(fin.get("momentum_error"), 3)),
                 ("bound-remnant velocity", vec3(fin.get("bound_remnant_velocity"), "m/s"))]
         for k, v in rows:
@@ -566,7 +567,7 @@ def main(argv=None):
     md.append(f"| M_LR/M_PB | {PAPER['M_LR_over_M_PB']} | {fmt(fin.get('M_LR_over_M_PB'), 4)} |")
     md.append(f"| beta | {PAPER['beta']} | {fmt(fin.get('beta'), 4)} |")
     md.append(f"| hand-off kinetic-energy loss | 0.39 % | {pct(ke)} |")
-    md.append(f"| N-body time | 4.5 h | {fmt((fin.get('time') or float('nan')) / 3600, 3, 'h') if fin else NA} |")
+    md.append(f"| N-body time | 4.5 h | {fmt(fin['time'] / 3600, 3, 'h') if fin.get('time') is not None else NA} |")
     n_part = None
     if audit:
         n_part = audit.get("input", {}).get("count")

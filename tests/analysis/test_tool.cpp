@@ -120,18 +120,23 @@ TEST(AnalyseTool, BadInputsExitWithCodeTwoNamingFileAndKey) {
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("mpm.h5"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("format"), std::string::npos) << r.out;
-  // MPM snapshot without damage given for the profile
+  // a sphere file given where the MPM snapshot belongs is fine; a file of another kind is not
   common::write_sphere_set((dir / "s.h5").string(), snapshot(0.0), prov());
-  r = run((dir / "s.h5").string() + " --mpm " + (dir / "mpm.h5").string() + " -o " + (dir / "x").string());
+  {
+    std::ofstream junk(dir / "junk.h5");
+    junk << "not hdf5";
+  }
+  r = run((dir / "s.h5").string() + " --mpm " + (dir / "junk.h5").string() + " -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);
-  EXPECT_NE(r.out.find("/particles/damage"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("junk.h5"), std::string::npos) << r.out;
   // unknown scene key
   r = run((dir / "s.h5").string() + " --set fof.linking=0.3 -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("fof.linking"), std::string::npos) << r.out;
   EXPECT_FALSE(fs::exists(dir / "x.json"));
-  // a good run for contrast
-  r = run((dir / "s.h5").string() + " -o " + (dir / "x").string());
+  // a good run for contrast; an MPM snapshot without damage (no damage model) is noted, not fatal
+  r = run((dir / "s.h5").string() + " --mpm " + (dir / "mpm.h5").string() + " -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(dir / "x.json"));
+  EXPECT_NE(slurp(dir / "x.json").find("/particles/damage missing"), std::string::npos);
 }

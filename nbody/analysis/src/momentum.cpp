@@ -1,6 +1,7 @@
 #include "analysis/momentum.hpp"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace analysis {
@@ -26,6 +27,8 @@ BetaResult momentum_enhancement(const BoundResult& b, const ImpactSpec& spec) {
   r.escaping_momentum_along = p_esc.dot(uhat);
   r.beta_ejecta = 1.0 - r.escaping_momentum_along / pimp;
   r.momentum_error = (p_tot - spec.impactor_mass * U).norm() / pimp;
+  const double ptu = p_tot.dot(uhat);
+  r.beta_total = ptu != 0.0 ? p_bound.dot(uhat) / ptu : std::numeric_limits<double>::quiet_NaN();
   const Eigen::Vector3d D = p_bound - spec.impactor_mass * U;
   const double du = D.dot(U);
   if (std::abs(du) > 1e-14 * D.norm() * U.norm() && du != 0.0)

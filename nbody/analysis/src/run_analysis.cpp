@@ -179,19 +179,21 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
     if (h.format == common::kParticleFormat) {
       const common::ParticleSnapshot p = common::read_particle_snapshot(cfg.damage_mpm);
       const common::Field* f = p.field(cfg.damage_field);
-      if (!f || f->ncomp != 1)
-        throw common::InputError(cfg.damage_mpm, "/particles/" + cfg.damage_field,
-                                 "missing or not a scalar field (damage.field)");
-      add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
-                   f->values.data(), p.count(), nullptr, axis);
+      if (!f || f->ncomp != 1)  // a scene without a damage model writes none: not an error
+        o.notes.push_back(cfg.damage_mpm + ": /particles/" + cfg.damage_field +
+                          " missing or not scalar: no end-of-MPM damage profile");
+      else
+        add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
+                     f->values.data(), p.count(), nullptr, axis);
     } else if (h.format == common::kSphereFormat) {
       const common::SphereSet p = common::read_sphere_set(cfg.damage_mpm);
       const common::Field* f = p.field(cfg.damage_field);
       if (!f || f->ncomp != 1)
-        throw common::InputError(cfg.damage_mpm, "/spheres/" + cfg.damage_field,
-                                 "missing or not a scalar field (damage.field)");
-      add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
-                   f->values.data(), p.count(), nullptr, axis);
+        o.notes.push_back(cfg.damage_mpm + ": /spheres/" + cfg.damage_field +
+                          " missing or not scalar: no end-of-MPM damage profile");
+      else
+        add_profiles(o, cfg, cfg.damage_mpm, "mpm_end", p.time, "all", p.position.data(), p.mass.data(),
+                     f->values.data(), p.count(), nullptr, axis);
     } else {
       throw common::InputError(cfg.damage_mpm, "/format",
                                "is \"" + h.format + "\", expected mpm-frag.particles or ssdem.spheres");
@@ -205,7 +207,8 @@ std::string timeseries_csv(const AnalysisOutcome& o) {
   std::ostringstream s;
   s << "time,M_LR_over_M_PB,bound_mass_fraction,beta,n_clumps,escaping_mass,"
        "step,file,n_spheres,n_single,lr_spheres,M_LR,bound_mass,total_mass,n_bound_clumps,"
-       "p_esc_x,p_esc_y,p_esc_z,p_esc_along_impact,beta_lr,beta_ejecta,beta_vector,momentum_error,bound_iterations\n";
+       "p_esc_x,p_esc_y,p_esc_z,p_esc_along_impact,beta_lr,beta_ejecta,beta_vector,beta_total,momentum_error,"
+       "bound_iterations\n";
   const double mpb = o.parent_body_mass;
   for (const auto& r : o.rows) {
     const auto& b = r.bound;
@@ -218,7 +221,7 @@ std::string timeseries_csv(const AnalysisOutcome& o) {
       << (r.beta ? fmt_num(r.beta->escaping_momentum_along) : "") << ','
       << (r.beta ? fmt_num(r.beta->beta_lr) : "") << ',' << (r.beta ? fmt_num(r.beta->beta_ejecta) : "") << ','
       << (r.beta && r.beta->beta_vector ? fmt_num(*r.beta->beta_vector) : "") << ','
-      << (r.beta ? fmt_num(r.beta->momentum_error) : "") << ',' << b.iterations << '\n';
+      << (r.beta ? fmt_num(r.beta->beta_total) : "") << ',' << (r.beta ? fmt_num(r.beta->momentum_error) : "") << ',' << b.iterations << '\n';
   }
   return s.str();
 }
@@ -282,6 +285,8 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
       .value("beta_lr", "as beta with the largest clump only")
       .value("beta_ejecta", "1 - P_esc . U_hat / (m_imp |U|); equals beta when momentum is conserved")
       .value("beta_vector", "Cheng et al. 2023 eq. 1: M dv = m U + m (beta-1)(E.U) E, E parallel to P_bound - m U")
+      .value("beta_total", "P_bound . U_hat / P_total . U_hat: the snapshot's own total momentum as reference "
+                           "(equals beta when P_total = m_imp U)")
       .value("momentum_error", "|P_total - m_imp U| / (m_imp |U|)")
       .value("M_LR_over_M_PB", "largest-clump mass over parent-body mass")
       .value("bound_mass_fraction", "bound-remnant mass over parent-body mass")
@@ -319,6 +324,7 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
           .value("beta_lr", r.beta->beta_lr)
           .value("beta_ejecta", r.beta->beta_ejecta)
           .value("beta_vector", r.beta->beta_vector)
+          .value("beta_total", r.beta->beta_total)
           .value("momentum_error", r.beta->momentum_error);
     } else {
       j.value("escaping_momentum", b.escaping_momentum)
@@ -327,6 +333,7 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
           .null("beta_lr")
           .null("beta_ejecta")
           .null("beta_vector")
+          .null("beta_total")
           .null("momentum_error");
     }
     j.end_object();

@@ -12,6 +12,9 @@
 ///     β_ejecta = 1 - P_esc·Û / (m |U|)            from the escaping material's momentum
 ///     β_vector: Cheng et al. 2023 (Nature 616:457) eq. 1, M Δv = m U + m (β-1)(Ê·U) Ê with
 ///               Ê ∥ D = P_bound - m U, giving β_vector = 1 + |D|^2 / (m D·U)
+///     β_total  = P_bound·Û / P_total·Û            the same with the momentum actually present in the
+///               snapshot as reference (insensitive to a discretised impactor whose mass or
+///               speed differs from the scene's m, U, or to material dropped at hand-off)
 /// β and β_ejecta agree when momentum is conserved, m U = P_bound + P_esc; the relative
 /// violation |P_total - m U| / (m |U|) is reported. The bound set includes embedded impactor
 /// material (validation-data.md §5.1 step 3). β_vector equals β for a head-on impact.
@@ -37,6 +40,7 @@ struct ImpactSpec {
 
 struct BetaResult {
   double beta = 0.0, beta_lr = 0.0, beta_ejecta = 0.0;
+  double beta_total = 0.0;                 ///< P_bound·Û / P_total·Û (NaN if P_total·Û = 0)
   std::optional<double> beta_vector;       ///< absent when D·U = 0 (no momentum transferred)
   double escaping_momentum_along = 0.0;    ///< P_esc·Û [kg m/s] (target frame)
   Eigen::Vector3d escaping_momentum = Eigen::Vector3d::Zero();  ///< P_esc (target frame)
