@@ -530,6 +530,95 @@ void Solver::g2p(double dt) {
   if ((flags & kGrad) != 0) max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
 }
 
+// MUSL: v_p <- alpha (v_p + sum S (v* - v)) + (1 - alpha) sum S v*, and in the same coloured
+// pass (m v_p)_i = sum_p S_ip m_p v_p into mom2_; afterwards the node momentum slots hold the
+// re-projected momenta. Reads p/f of nodes, writes only mom2_ inside the block footprint.
+template <int NPA>
+void Solver::musl_remap() {
+  const int sx = grid_.shape[0], sy = grid_.shape[1];
+  double* x = ps_.x.data();
+  double* v = ps_.v.data();
+  const double* lp = ps_.half_width.data();
+  const Node* nodes = nodes_.data();
+  const ShapeKind kind = cfg_.shape;
+  const Eigen::Vector3d o = grid_.origin, h = grid_.cell_size;
+  const double alpha = cfg_.flip;
+  mom2_.assign(3 * nodes_.size(), 0.0);
+  double* m2 = mom2_.data();
+  std::size_t first_bad = ps_.size();
+  for (int colour = 0; colour < 8; ++colour) {
+    const std::vector<std::uint32_t>& blocks = colour_blocks_[colour];
+    const std::size_t nbk = blocks.size();
+#pragma omp parallel for schedule(dynamic, 1) reduction(min : first_bad)
+    for (std::size_t ib = 0; ib < nbk; ++ib) {
+      const std::uint32_t b = blocks[ib];
+      for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
+        const std::size_t p = order_[k];
+        const AxisWeights X = axis_weights(kind, x[3 * p], o[0], h[0], lp[3 * p]);
+        const AxisWeights Y = axis_weights(kind, x[3 * p + 1], o[1], h[1], lp[3 * p + 1]);
+        const AxisWeights Z = axis_weights(kind, x[3 * p + 2], o[2], h[2], lp[3 * p + 2]);
+        const std::size_t base = static_cast<std::size_t>(X.first) + static_cast<std::size_t>(sx) * (Y.first + static_cast<std::size_t>(sy) * Z.first);
+        double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0;
+        for (int cc = 0; cc < NPA; ++cc)
+          for (int bb = 0; bb < NPA; ++bb) {
+            const double wyz = Y.w[bb] * Z.w[cc];
+            const Node* row = nodes + base + static_cast<std::size_t>(sx) * (bb + static_cast<std::size_t>(sy) * cc);
+            double s0 = 0, s1 = 0, s2 = 0, o0 = 0, o1 = 0, o2 = 0;
+#pragma GCC unroll 3
+            for (int a = 0; a < NPA; ++a) {
+              const double wx = X.w[a];
+              s0 += wx * row[a].f[0];
+              s1 += wx * row[a].f[1];
+              s2 += wx * row[a].f[2];
+              o0 += wx * row[a].p[0];
+              o1 += wx * row[a].p[1];
+              o2 += wx * row[a].p[2];
+            }
+            vs0 += wyz * s0;
+            vs1 += wyz * s1;
+            vs2 += wyz * s2;
+            vo0 += wyz * o0;
+            vo1 += wyz * o1;
+            vo2 += wyz * o2;
+          }
+        double* vp = v + 3 * p;
+        vp[0] = alpha * (vp[0] + vs0 - vo0) + (1.0 - alpha) * vs0;
+        vp[1] = alpha * (vp[1] + vs1 - vo1) + (1.0 - alpha) * vs1;
+        vp[2] = alpha * (vp[2] + vs2 - vo2) + (1.0 - alpha) * vs2;
+        if (!std::isfinite(vp[0] + vp[1] + vp[2])) first_bad = std::min(first_bad, p);
+        const double m = ps_.mass[p];
+        const double mv0 = m * vp[0], mv1 = m * vp[1], mv2 = m * vp[2];
+        for (int cc = 0; cc < NPA; ++cc)
+          for (int bb = 0; bb < NPA; ++bb) {
+            const double wyz = Y.w[bb] * Z.w[cc];
+            const double c0 = mv0 * wyz, c1 = mv1 * wyz, c2 = mv2 * wyz;
+            double* row = m2 + 3 * (base + static_cast<std::size_t>(sx) * (bb + static_cast<std::size_t>(sy) * cc));
+#pragma GCC unroll 3
+            for (int a = 0; a < NPA; ++a) {
+              const double wx = X.w[a];
+              row[3 * a] += wx * c0;
+              row[3 * a + 1] += wx * c1;
+              row[3 * a + 2] += wx * c2;
+            }
+          }
+      }
+    }
+  }
+  if (first_bad < ps_.size()) {
+    std::ostringstream os;
+    os << "non-finite velocity at particle id " << ps_.id[first_bad] << " at t = " << time_ << " s, step " << step_;
+    throw SolverFailure(os.str(), false);
+  }
+  Node* nd = nodes_.data();
+  const std::size_t nn = nodes_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < nn; ++i) {
+    nd[i].p[0] = m2[3 * i];
+    nd[i].p[1] = m2[3 * i + 1];
+    nd[i].p[2] = m2[3 * i + 2];
+  }
+}
+
 // ------------------------------------------------------------------------------------------
 void Solver::initialize() {
   const std::size_t nch = chunks_.size();
@@ -588,12 +677,8 @@ void Solver::step(double dt) {
       apply_bc(1);
       grid_integrate(dt);
       apply_bc(4);
-      gather(integral_constant<int, kVel>{}, integral_constant<int, 4>{});
-      Node* nodes = nodes_.data();
-      const std::size_t nn = nodes_.size();
-#pragma omp parallel for schedule(static)
-      for (std::size_t i = 0; i < nn; ++i) nodes[i].p[0] = nodes[i].p[1] = nodes[i].p[2] = 0.0;
-      scat(std::integral_constant<int, kMom>{});
+      // fused: FLIP/PIC velocity update and re-projection of the new particle momenta
+      lin ? musl_remap<2>() : musl_remap<3>();
       grid_velocity();
       apply_bc(1);
       gather(integral_constant<int, kPos | kGrad>{}, integral_constant<int, 1>{});

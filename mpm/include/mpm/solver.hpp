@@ -155,6 +155,7 @@ class Solver {
   void grid_integrate(double dt);
   void apply_bc(int slot);
   template <int NPA, int flags, int lslot> void g2p(double dt);
+  template <int NPA> void musl_remap();
   void reorder();
   void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs);
 
@@ -170,6 +171,7 @@ class Solver {
   mutable bool dt_capped_ = false;
   BodyForce body_force_;
   std::vector<double> body_accel_;
+  std::vector<double> mom2_;  ///< MUSL re-projected nodal momentum (3 per node)
 
   // binning
   Eigen::Vector3i nblocks_;
