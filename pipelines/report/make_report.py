@@ -393,7 +393,13 @@ def cutaway(ax, x, m, d, r, centre, frame, half_width, title):
         sel = np.abs(h) <= 3 * half_width
     a = rel[sel] @ e2
     b = -(rel[sel] @ u)  # the impactor arrives from the top
-    lim = max(np.percentile(np.hypot(a, b), 99) * 1.15, 1e-9) if a.size else 1.0
+    # view: 1.3 x the radius holding 80 % of the mass (whole set, 3-D), so that escaping ejecta do
+    # not shrink the main body to a dot
+    dist = np.linalg.norm(rel, axis=1)
+    o = np.argsort(dist)
+    cm = np.cumsum(m[o])
+    r80 = dist[o[min(np.searchsorted(cm, 0.8 * cm[-1]), len(o) - 1)]] if len(o) else 1.0
+    lim = max(1.3 * r80, 4 * half_width, 1e-9)
     ax.set_xlim(-lim, lim)
     ax.set_ylim(-lim, lim)
     ax.set_aspect("equal")
@@ -403,8 +409,11 @@ def cutaway(ax, x, m, d, r, centre, frame, half_width, title):
     scale = width_pt / (2 * lim)
     rr = (r[sel] if r is not None else np.full(a.size, half_width))
     size = np.clip((2 * rr * scale) ** 2, 0.5, 400)
-    c = d[sel] if d is not None else np.zeros(a.size)
-    sc = ax.scatter(a, b, s=size, c=c, cmap="inferno", vmin=0, vmax=1, marker="o", linewidths=0)
+    if d is not None:
+        sc = ax.scatter(a, b, s=size, c=d[sel], cmap="inferno", vmin=0, vmax=1, marker="o", linewidths=0)
+    else:
+        ax.scatter(a, b, s=size, color="0.6", marker="o", linewidths=0)
+        sc = None
     ax.set_title(title, fontsize=9)
     ax.set_xlabel("across the impact axis [m]", fontsize=8)
     if ax.get_subplotspec().is_first_col():
@@ -430,8 +439,9 @@ def snapshot_panel_figure(items, kind, frame, path, suptitle, centre_mode):
         if d is None:
             missing.append(os.path.basename(p))
         centre = (m[:, None] * x).sum(0) / m.sum() if centre_mode == "com" else weighted_median(x, m)
-        hw = 0.5 * float(np.median(2 * r)) if r is not None and r.size else 1.0
-        sc = cutaway(ax, x, m, d, r, centre, frame, hw, f"t = {fmt(t, 4)} s" + ("" if d is not None else " (no damage)"))
+        # slab of 1.5 item spacings: always at least one lattice layer, whatever the rounding
+        hw = 0.75 * float(np.median(2 * r)) if r is not None and r.size else 1.0
+        sc = cutaway(ax, x, m, d, r, centre, frame, hw, f"t = {fmt(t, 4)} s" + ("" if d is not None else " (no damage)")) or sc
     if sc is not None:
         fig.colorbar(sc, ax=axes[0].tolist(), shrink=0.8, label="damage")
     fig.suptitle(suptitle, fontsize=10)
@@ -762,6 +772,8 @@ def figure_profile(summary, summary_path, out, notes):
         for r in rows:
             groups.setdefault((r["kind"], r["stage"], r["set"]), []).append(r)
         labels = {"mpm_end": "end of MPM", "handoff": "hand-off spheres", "nbody_end": "end of N-body"}
+        span = max((abs(num(r, "hi")) for r in rows if math.isfinite(num(r, "hi"))), default=1.0)
+        scale, unit = (1e3, "km") if span > 5e3 else (1.0, "m")
         fig, axes = plt.subplots(1, 2, figsize=(10, 3.8))
         for ax, kind in zip(axes, ("axial", "radial")):
             for (k, stage, st), rs in sorted(groups.items()):
@@ -769,12 +781,14 @@ def figure_profile(summary, summary_path, out, notes):
                     continue
                 x = np.array([num(r, "centre") for r in rs])
                 y = np.array([num(r, "mean_damage") for r in rs])
-                ax.plot(x / 1e3, y, "o-" if st == "all" else "s--", ms=3,
+                ok = np.isfinite(x) & np.isfinite(y)  # empty bins have no mean
+                x, y = x[ok], y[ok]
+                ax.plot(x / scale, y, "o-" if st == "all" else "s--", ms=3,
                         label=f"{labels.get(stage, stage)} ({'bound remnant' if st == 'bound' else 'all'})")
             ax.set_ylim(-0.02, 1.02)
             ax.set_ylabel("mass-weighted mean damage")
-            ax.set_xlabel("position along the impact direction [km] (impact site < 0)" if kind == "axial"
-                          else "distance from the centre of mass [km]")
+            ax.set_xlabel(f"position along the impact direction [{unit}] (impact site < 0)" if kind == "axial"
+                          else f"distance from the centre of mass [{unit}]")
             ax.legend(fontsize=7)
         fig.tight_layout()
         save_fig(fig, os.path.join(out, "fig_damage_profile.png"))

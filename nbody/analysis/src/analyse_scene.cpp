@@ -14,7 +14,7 @@ common::Schema analyse_schema() {
              "target velocity before impact, simulation frame (beta is evaluated in the target's pre-impact rest frame)");
   s.add_real("impact.parent_body_mass", 0.0, "kg", 0.0, inf,
              "parent-body mass M_PB for M_LR/M_PB (0: total mass of the earliest snapshot)");
-  s.add_real("impact.target_radius", 0.0, "m", 0.0, inf, "target radius, recorded for the report (0: unknown)");
+  s.add_real("impact.target_radius", 0.0, "m", 0.0, inf, "target radius: default damage-profile range and recorded for the report (0: unknown)");
   s.add_real("fof.link_fraction", 0.2, "1", 0.0, 100.0,
              "surface linking length eps as a fraction of the median sphere radius (0.2 = pkdgrav rpa's L = 1.1 for equal spheres)");
   s.add_real("fof.link_length", 0.0, "m", 0.0, inf, "absolute surface linking length eps (> 0 overrides link_fraction)");
@@ -26,7 +26,7 @@ common::Schema analyse_schema() {
   s.add_int("damage.bins", 20, 1, 100000, "bins of the profile along the impact axis");
   s.add_int("damage.radial_bins", 20, 1, 100000, "radial shells of the radial profile");
   s.add_real_list("damage.range", std::vector<double>{}, "m", -inf, inf,
-                  "[lo, hi] of the axial coordinate (empty: extent of the data)");
+                  "[lo, hi] of the axial coordinate (empty: +-1.25 impact.target_radius, or +-1.3 x the 80 %-mass radius)");
   s.add_real("damage.cylinder_radius", 0.0, "m", 0.0, inf,
              "axial profile: only items within this distance of the axis (0: all)");
   s.add_vec3("damage.axis", Eigen::Vector3d::UnitZ(), "1", -inf, inf,

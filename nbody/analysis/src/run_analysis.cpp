@@ -67,18 +67,43 @@ Eigen::Vector3d profile_axis(const AnalyseConfig& cfg, std::vector<std::string>&
 
 void add_profiles(AnalysisOutcome& o, const AnalyseConfig& cfg, const std::string& file, const std::string& stage,
                   double time, const std::string& set, const double* x, const double* m, const double* d,
-                  std::size_t n, const char* sel, const Eigen::Vector3d& axis) {
+                  std::size_t n, const char* sel, const Eigen::Vector3d& axis, const char* origin_sel = nullptr) {
   ProfileSpec spec;
   spec.axis = axis;
-  spec.origin = cfg.origin ? *cfg.origin : centre_of_mass(x, m, n, sel);
+  spec.origin = cfg.origin ? *cfg.origin : centre_of_mass(x, m, n, origin_sel ? origin_sel : sel);
   spec.bins = cfg.axial_bins;
-  spec.lo = cfg.range_lo;
-  spec.hi = cfg.range_hi;
   spec.cylinder_radius = cfg.cylinder_radius;
+  // Default range: the body, not the ejecta cloud (which may be 100x larger): 1.25 x the target
+  // radius when known, else 1.3 x the radius about the origin holding 80 % of the mass.
+  double reach = 1.25 * cfg.target_radius;
+  if (!(reach > 0)) {
+    std::vector<std::pair<double, double>> dm;
+    for (std::size_t i = 0; i < n; ++i)
+      if (!sel || sel[i]) dm.emplace_back((Eigen::Vector3d(x + 3 * i) - spec.origin).norm(), m[i]);
+    std::sort(dm.begin(), dm.end());
+    double total = 0.0, acc = 0.0;
+    for (const auto& e : dm) total += e.second;
+    reach = 0.0;
+    for (const auto& e : dm) {
+      acc += e.second;
+      reach = e.first;
+      if (acc >= 0.8 * total) break;
+    }
+    reach *= 1.3;
+  }
+  if (cfg.range_lo < cfg.range_hi) {
+    spec.lo = cfg.range_lo;
+    spec.hi = cfg.range_hi;
+  } else if (reach > 0) {
+    spec.lo = -reach;
+    spec.hi = reach;
+  }
   ProfileRecord r{file, stage, time, set, "axial", spec.origin, axis, axial_profile(x, m, d, n, spec, sel)};
   o.profiles.push_back(r);
   spec.bins = cfg.radial_bins;
-  spec.lo = spec.hi = 0.0;
+  spec.lo = 0.0;
+  spec.hi = reach > 0 ? reach : 0.0;
+  if (cfg.range_lo < cfg.range_hi) spec.hi = std::max(std::abs(cfg.range_lo), std::abs(cfg.range_hi));
   r.kind = "radial";
   r.bins = radial_profile(x, m, d, n, spec, sel);
   o.profiles.push_back(r);
@@ -165,8 +190,10 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
   const common::Field* d = last.field(cfg.damage_field);
   if (d && d->ncomp == 1) {
     const auto& r = o.rows.back();
+    // both about the bound remnant's centre of mass (escaping ejecta would drag the COM of "all"
+    // far from the body)
     add_profiles(o, cfg, r.file, "nbody_end", r.time, "all", last.position.data(), last.mass.data(),
-                 d->values.data(), last.count(), nullptr, axis);
+                 d->values.data(), last.count(), nullptr, axis, last_bound.data());
     add_profiles(o, cfg, r.file, "nbody_end", r.time, "bound", last.position.data(), last.mass.data(),
                  d->values.data(), last.count(), last_bound.data(), axis);
   } else {
@@ -291,7 +318,10 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
       .value("M_LR_over_M_PB", "largest-clump mass over parent-body mass")
       .value("bound_mass_fraction", "bound-remnant mass over parent-body mass")
       .value("damage_profile", "mass-weighted mean damage in bins of (x - origin).axis (axial) or |x - origin| (radial); "
-                               "origin = centre of mass of the profiled set unless damage.origin is given; "
+                               "range [-L, L] (axial) and [0, L] (radial) with L = damage.range, else 1.25 x "
+                               "impact.target_radius, else 1.3 x the radius holding 80 % of the profiled mass; "
+                               "origin = centre of mass of the profiled set (at the end of the N-body run: of the bound remnant) unless "
+                               "damage.origin is given; "
                                "axis = impact direction unless damage.axis is given (impact site at negative axial coordinate)")
       .end_object();
   if (!o.rows.empty()) {

@@ -23,7 +23,7 @@ struct AnalyseConfig {
   std::string damage_field = "damage";
   std::string damage_mpm;  ///< particle snapshot (or sphere file) for the end-of-MPM profile
   int axial_bins = 20, radial_bins = 20;
-  double range_lo = 0.0, range_hi = 0.0;  ///< axial range; lo >= hi: automatic
+  double range_lo = 0.0, range_hi = 0.0;  ///< axial range; lo >= hi: automatic (see run_analysis.cpp)
   double cylinder_radius = 0.0;
   std::optional<Eigen::Vector3d> axis, origin;
   std::string prefix = "analysis";  ///< writes <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv
