@@ -10,6 +10,18 @@
 
 namespace ssdem {
 
+namespace {
+// Position of tree slot t in the gathered particle list (its group's range is in `ranges`).
+std::size_t self_index(const std::vector<std::uint32_t>& ranges, std::uint32_t t) {
+  std::size_t q = 0;
+  for (std::size_t r = 0; r < ranges.size(); r += 2) {
+    if (t >= ranges[r] && t < ranges[r] + ranges[r + 1]) return q + (t - ranges[r]);
+    q += ranges[r + 1];
+  }
+  return static_cast<std::size_t>(-1);
+}
+}  // namespace
+
 void direct_gravity(const Spheres& sp, double G, std::vector<Vec3>& acc, std::vector<double>* pot) {
   const std::size_t n = sp.size();
   acc.assign(n, Vec3::Zero());
@@ -202,6 +214,7 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
   {
     std::vector<std::uint32_t> stack, cells;
     std::vector<std::uint32_t> ranges;  // start, count pairs
+    std::vector<double> cbuf, pbuf;
     stack.reserve(256);
 #pragma omp for schedule(dynamic, 4)
     for (std::size_t L = 0; L < nl; ++L) {
@@ -230,55 +243,103 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
           for (int k = c.nchild - 1; k >= 0; --k) stack.push_back(c.child + k);
         }
       }
+      // Gather the interaction lists into contiguous arrays (vectorisable inner loops).
+      const std::size_t nc = cells.size();
+      cbuf.resize(10 * nc);
+      double* cx = cbuf.data();
+      double* cy = cx + nc;
+      double* cz = cy + nc;
+      double* cm = cz + nc;
+      double* q0 = cm + nc;
+      double* q1 = q0 + nc;
+      double* q2 = q1 + nc;
+      double* q3 = q2 + nc;
+      double* q4 = q3 + nc;
+      double* q5 = q4 + nc;
+      for (std::size_t c = 0; c < nc; ++c) {
+        const Node& nd = nodes_[cells[c]];
+        cx[c] = nd.com.x();
+        cy[c] = nd.com.y();
+        cz[c] = nd.com.z();
+        cm[c] = nd.mass;
+        q0[c] = nd.q[0];
+        q1[c] = nd.q[1];
+        q2[c] = nd.q[2];
+        q3[c] = nd.q[3];
+        q4[c] = nd.q[4];
+        q5[c] = nd.q[5];
+      }
       std::size_t npart = 0;
       for (std::size_t r = 0; r < ranges.size(); r += 2) npart += ranges[r + 1];
-      tot_cells += static_cast<double>(cells.size()) * g.count;
+      pbuf.resize(5 * npart);
+      double* ux = pbuf.data();
+      double* uy = ux + npart;
+      double* uz = uy + npart;
+      double* um = uz + npart;
+      double* uh = um + npart;
+      {
+        std::size_t q = 0;
+        for (std::size_t r = 0; r < ranges.size(); r += 2)
+          for (std::uint32_t u = ranges[r]; u < ranges[r] + ranges[r + 1]; ++u, ++q) {
+            ux[q] = px_[u];
+            uy[q] = py_[u];
+            uz[q] = pz_[u];
+            um[q] = pm_[u];
+            uh[q] = ph_[u];
+          }
+      }
+      const std::size_t self_q = self_index(ranges, g.start);
+      tot_cells += static_cast<double>(nc) * g.count;
       tot_parts += static_cast<double>(npart) * g.count;
       for (std::uint32_t t = g.start; t < g.start + g.count; ++t) {
         const double xi = px_[t], yi = py_[t], zi = pz_[t], hi = ph_[t];
         double ax = 0, ay = 0, az = 0, ph = 0;
-        for (const std::uint32_t ci : cells) {
-          const Node& c = nodes_[ci];
-          const double rx = xi - c.com.x(), ry = yi - c.com.y(), rz = zi - c.com.z();
+        for (std::size_t c = 0; c < nc; ++c) {
+          const double rx = xi - cx[c], ry = yi - cy[c], rz = zi - cz[c];
           const double r2 = rx * rx + ry * ry + rz * rz;
-          const double ir2 = 1.0 / r2, ir = std::sqrt(ir2);
+          const double ir = 1.0 / std::sqrt(r2), ir2 = ir * ir;
           const double ir3 = ir * ir2, ir5 = ir3 * ir2, ir7 = ir5 * ir2;
-          const double* q = c.q;
-          const double qx = q[0] * rx + q[3] * ry + q[4] * rz;
-          const double qy = q[3] * rx + q[1] * ry + q[5] * rz;
-          const double qz = q[4] * rx + q[5] * ry + q[2] * rz;
+          const double qx = q0[c] * rx + q3[c] * ry + q4[c] * rz;
+          const double qy = q3[c] * rx + q1[c] * ry + q5[c] * rz;
+          const double qz = q4[c] * rx + q5[c] * ry + q2[c] * rz;
           const double rqr = rx * qx + ry * qy + rz * qz;
-          const double mono = -c.mass * ir3 - 2.5 * rqr * ir7;
+          const double mono = -cm[c] * ir3 - 2.5 * rqr * ir7;
           ax += mono * rx + qx * ir5;
           ay += mono * ry + qy * ir5;
           az += mono * rz + qz * ir5;
-          ph -= c.mass * ir + 0.5 * rqr * ir5;
+          ph -= cm[c] * ir + 0.5 * rqr * ir5;
         }
-        for (std::size_t r = 0; r < ranges.size(); r += 2) {
-          const std::uint32_t b = ranges[r], e = b + ranges[r + 1];
-          for (std::uint32_t u = b; u < e; ++u) {
-            if (u == t) continue;
-            const double rx = px_[u] - xi, ry = py_[u] - yi, rz = pz_[u] - zi;
-            const double r2 = rx * rx + ry * ry + rz * rz;
-            const double h = hi + ph_[u];
-            double f, pf;
-            if (r2 >= h * h) {
-              const double ir = 1.0 / std::sqrt(r2);
-              pf = ir;
-              f = ir * ir * ir;
-            } else {
-              f = spline_force_factor(std::sqrt(r2), h, pf);
-            }
-            const double mf = pm_[u] * f;
-            ax += mf * rx;
-            ay += mf * ry;
-            az += mf * rz;
-            ph -= pm_[u] * pf;
-          }
+        // Newtonian for all pairs (self and softened pairs masked), then a scalar fix-up pass
+        // for the few pairs closer than h (overlapping spheres).
+        double bx = 0, by = 0, bz = 0, bp = 0;
+        for (std::size_t q = 0; q < npart; ++q) {
+          const double rx = ux[q] - xi, ry = uy[q] - yi, rz = uz[q] - zi;
+          const double r2 = rx * rx + ry * ry + rz * rz;
+          const double h = hi + uh[q];
+          const bool far = r2 >= h * h;
+          const double ir = far ? 1.0 / std::sqrt(r2) : 0.0;
+          const double mf = um[q] * ir * ir * ir;
+          bx += mf * rx;
+          by += mf * ry;
+          bz += mf * rz;
+          bp -= um[q] * ir;
+        }
+        const std::size_t self = self_q + (t - g.start);
+        for (std::size_t q = 0; q < npart; ++q) {
+          const double rx = ux[q] - xi, ry = uy[q] - yi, rz = uz[q] - zi;
+          const double r2 = rx * rx + ry * ry + rz * rz;
+          const double h = hi + uh[q];
+          if (r2 >= h * h || q == self) continue;
+          double pf;
+          const double f = spline_force_factor(std::sqrt(r2), h, pf);
+          bx += um[q] * f * rx;
+          by += um[q] * f * ry;
+          bz += um[q] * f * rz;
+          bp -= um[q] * pf;
         }
         const std::uint32_t i = perm_[t];
-        acc[i] = Vec3(G * ax, G * ay, G * az);
-        if (pot) (*pot)[i] = G * ph;
+        acc[i] = Vec3(G * (ax + bx), G * (ay + by), G * (az + bz));
+        if (pot) (*pot)[i] = G * (ph + bp);
       }
     }
   }

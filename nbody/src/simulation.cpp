@@ -4,12 +4,20 @@
 #include <omp.h>
 
 #include <cmath>
+#include <ctime>
 #include <sstream>
 
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
 
 namespace ssdem {
+namespace {
+double cpu_now() {
+  timespec t;
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+}  // namespace
 
 Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(sp)) {
   setup();
@@ -57,7 +65,7 @@ void Simulation::setup() {
 }
 
 void Simulation::compute_gravity(bool with_pot) {
-  const double t0 = omp_get_wtime();
+  const double t0 = omp_get_wtime(), c0 = cpu_now();
   std::vector<double>* pp = with_pot ? &pot_ : nullptr;
   if (tree_)
     tree_->compute(sp_, ag_, pp);
@@ -66,6 +74,7 @@ void Simulation::compute_gravity(bool with_pot) {
   grav_step_ = step_;
   if (with_pot) pot_step_ = step_;
   times_.gravity += omp_get_wtime() - t0;
+  times_.cpu_gravity += cpu_now() - c0;
   ++times_.gravity_evals;
 }
 
@@ -85,13 +94,15 @@ void Simulation::compute_forces(bool initial) {
         wpred_[i] = sp_.w[i] + 0.5 * h * alpha_[i];
       }
     }
-    double t0 = omp_get_wtime();
+    const double t0 = omp_get_wtime(), c0 = cpu_now();
     contacts_->update_neighbors(sp_);
-    double t1 = omp_get_wtime();
+    const double t1 = omp_get_wtime(), c1 = cpu_now();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
-    double t2 = omp_get_wtime();
+    const double t2 = omp_get_wtime(), c2 = cpu_now();
     times_.neighbours += t1 - t0;
     times_.contacts += t2 - t1;
+    times_.cpu_neighbours += c1 - c0;
+    times_.cpu_contacts += c2 - c1;
   }
   if (cfg_.self_gravity && initial) compute_gravity(false);
   const Vec3 g = cfg_.uniform_g;
@@ -115,7 +126,7 @@ void Simulation::step() {
   const int k = cfg_.gravity_every;
   const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
   const bool open_kick = sg && step_ % k == 0;
-  double t0 = omp_get_wtime();
+  double t0 = omp_get_wtime(), c0 = cpu_now();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     if (open_kick) sp_.v[i] += hk * ag_[i];
@@ -126,10 +137,12 @@ void Simulation::step() {
   ++step_;
   time_ = static_cast<double>(step_) * h;  // no accumulated round-off; identical on restart
   times_.integrate += omp_get_wtime() - t0;
+  times_.cpu_integrate += cpu_now() - c0;
   compute_forces(false);
   const bool close_kick = sg && step_ % k == 0;
   if (close_kick) compute_gravity(false);
   t0 = omp_get_wtime();
+  c0 = cpu_now();
 #pragma omp parallel for schedule(static)
   for (std::size_t i = 0; i < n; ++i) {
     sp_.v[i] += hh * a_[i];
@@ -137,6 +150,7 @@ void Simulation::step() {
     if (close_kick) sp_.v[i] += hk * ag_[i];
   }
   times_.integrate += omp_get_wtime() - t0;
+  times_.cpu_integrate += cpu_now() - c0;
   ++times_.steps;
   check_state();
 }

@@ -29,10 +29,10 @@ common::Schema analyse_schema() {
                   "[lo, hi] of the axial coordinate (empty: +-1.25 impact.target_radius, or +-1.3 x the 80 %-mass radius)");
   s.add_real("damage.cylinder_radius", 0.0, "m", 0.0, inf,
              "axial profile: only items within this distance of the axis (0: all)");
-  s.add_vec3("damage.axis", Eigen::Vector3d::UnitZ(), "1", -inf, inf,
-             "profile axis (default when not given: the impact direction U/|U|, else +z)");
-  s.add_vec3("damage.origin", Eigen::Vector3d::Zero(), "m", -inf, inf,
-             "profile origin (default when not given: centre of mass of the profiled set)");
+  s.add_real_list("damage.axis", std::vector<double>{}, "1", -inf, inf,
+                  "profile axis [x, y, z] (empty: the impact direction U/|U|, else +z)");
+  s.add_real_list("damage.origin", std::vector<double>{}, "m", -inf, inf,
+                  "profile origin [x, y, z] (empty: centre of mass of the profiled set; of the bound remnant at the end of the N-body run)");
   s.add_string("output.prefix", std::string("analysis"),
                "output path prefix: <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv");
   return s;
@@ -65,12 +65,17 @@ AnalyseConfig analyse_config(const common::Scene& sc) {
     c.range_hi = range[1];
   }
   c.cylinder_radius = sc.real("damage.cylinder_radius");
-  if (sc.given("damage.axis")) {
-    const Eigen::Vector3d a = sc.vec3("damage.axis");
-    if (!(a.norm() > 0)) throw common::InputError(sc.source(), "damage.axis", "must be a non-zero vector");
+  const auto axis = sc.real_list("damage.axis");
+  if (!axis.empty()) {
+    const Eigen::Vector3d a = axis.size() == 3 ? Eigen::Vector3d(axis[0], axis[1], axis[2]) : Eigen::Vector3d::Zero();
+    if (!(a.norm() > 0)) throw common::InputError(sc.source(), "damage.axis", "expected [x, y, z], a non-zero vector, or []");
     c.axis = a.normalized();
   }
-  if (sc.given("damage.origin")) c.origin = sc.vec3("damage.origin");
+  const auto origin = sc.real_list("damage.origin");
+  if (!origin.empty()) {
+    if (origin.size() != 3) throw common::InputError(sc.source(), "damage.origin", "expected [x, y, z] or []");
+    c.origin = Eigen::Vector3d(origin[0], origin[1], origin[2]);
+  }
   c.prefix = sc.string("output.prefix");
   if (c.prefix.empty()) throw common::InputError(sc.source(), "output.prefix", "must not be empty");
   return c;

@@ -66,9 +66,10 @@ struct Diagnostics {
   double max_overlap_frac = 0;
 };
 
-/// Wall-clock seconds spent per phase.
+/// Seconds spent per phase: wall clock, and process CPU time (all threads; "core-seconds").
 struct PhaseTimes {
   double gravity = 0, neighbours = 0, contacts = 0, integrate = 0;
+  double cpu_gravity = 0, cpu_neighbours = 0, cpu_contacts = 0, cpu_integrate = 0;
   std::int64_t steps = 0, gravity_evals = 0;
 };
 
