@@ -129,6 +129,10 @@ TEST(AnalyseTool, BadInputsExitWithCodeTwoNamingFileAndKey) {
   r = run((dir / "s.h5").string() + " --mpm " + (dir / "junk.h5").string() + " -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("junk.h5"), std::string::npos) << r.out;
+  // a malformed profile axis names the key
+  r = run((dir / "s.h5").string() + " --set 'damage.axis=[1,0]' -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("damage.axis"), std::string::npos) << r.out;
   // unknown scene key
   r = run((dir / "s.h5").string() + " --set fof.linking=0.3 -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);
