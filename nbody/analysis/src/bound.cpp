@@ -1,3 +1,4 @@
+// Implementation of analysis/bound.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/bound.hpp"
 
 #include <cmath>

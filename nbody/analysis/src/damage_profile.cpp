@@ -1,3 +1,4 @@
+// Implementation of analysis/damage_profile.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/damage_profile.hpp"
 
 #include <algorithm>

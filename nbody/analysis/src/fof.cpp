@@ -1,3 +1,4 @@
+// Implementation of analysis/fof.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/fof.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// Implementation of analysis/momentum.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/momentum.hpp"
 
 #include <cmath>

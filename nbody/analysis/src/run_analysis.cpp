@@ -1,3 +1,4 @@
+// ssdem-analyse driver (analysis/run_analysis.hpp): reads snapshots, applies fof/bound/momentum/damage_profile, writes outputs.
 #include "analysis/run_analysis.hpp"
 
 #include <spdlog/spdlog.h>
