@@ -562,7 +562,8 @@ def main(argv=None):
         defs = summary.get("definitions", {})
         if defs:
             md.append("**Definitions** (from the analysis):\n")
-            for k in ("frame", "clumps", "bound", "beta", "beta_ejecta", "damage_profile"):
+            for k in ("frame", "clumps", "bound", "beta", "beta_lr", "beta_ejecta", "beta_vector", "beta_total",
+                      "damage_profile"):
                 if k in defs:
                     md.append(f"- *{k}*: {defs[k]}")
             md.append("")
