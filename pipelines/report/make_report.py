@@ -554,6 +554,7 @@ def main(argv=None):
                 ("beta from escaping ejecta, 1 - P_esc.U/(mU)", fmt(fin.get("beta_ejecta"), 5)),
                 ("beta, vector form (Cheng et al. 2023)", fmt(fin.get("beta_vector"), 5)),
                 ("beta with the snapshot's total momentum as reference", fmt(fin.get("beta_total"), 5)),
+                ("beta from spheres above the local escape speed (sphere by sphere)", fmt(fin.get("beta_escape_speed"), 5)),
                 ("momentum conservation |P - mU|/(mU)", fmt(fin.get("momentum_error"), 3)),
                 ("bound-remnant velocity", vec3(fin.get("bound_remnant_velocity"), "m/s"))]
         for k, v in rows:
@@ -563,7 +564,7 @@ def main(argv=None):
         if defs:
             md.append("**Definitions** (from the analysis):\n")
             for k in ("frame", "clumps", "bound", "beta", "beta_lr", "beta_ejecta", "beta_vector", "beta_total",
-                      "damage_profile"):
+                      "beta_escape_speed", "damage_profile"):
                 if k in defs:
                     md.append(f"- *{k}*: {defs[k]}")
             md.append("")
@@ -747,6 +748,9 @@ def figure_history(summary, summary_path, out, notes):
         if np.any(np.isfinite(b)):
             a2.plot(t / scale, b, "o-", ms=3, label="beta (bound remnant)")
             a2.plot(t / scale, [num(r, "beta_lr") for r in rows], "s--", ms=3, label="beta (largest remnant)")
+            bs = np.array([num(r, "beta_escape_speed") for r in rows])
+            if np.any(np.isfinite(bs)):
+                a2.plot(t / scale, bs, "^:", ms=3, label="beta (sphere escape speed)")
             a2.axhline(PAPER["beta"], color="k", lw=0.8, ls=":", label="El Mir et al. 2019: 1.69")
             a2.legend(fontsize=7)
         else:

@@ -9,6 +9,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "analysis/escape_speed.hpp"
 #include "analysis/json_writer.hpp"
 #include "common/atomic_file.hpp"
 #include "common/h5.hpp"
@@ -113,7 +114,7 @@ void add_profiles(AnalysisOutcome& o, const AnalyseConfig& cfg, const std::strin
 }  // namespace
 
 SnapshotResult analyse_snapshot(const common::SphereSet& s, const AnalyseConfig& cfg, double eps,
-                                std::vector<char>* sphere_bound) {
+                                std::vector<char>* sphere_bound, double parent_body_mass) {
   SnapshotResult r;
   r.time = s.time;
   r.step = s.step;
@@ -129,6 +130,31 @@ SnapshotResult analyse_snapshot(const common::SphereSet& s, const AnalyseConfig&
   if (r.bound.lr_mass > 0) r.lr_velocity = r.bound.lr_momentum / r.bound.lr_mass;
   if (r.bound.bound_mass > 0) r.bound_velocity = r.bound.bound_momentum / r.bound.bound_mass;
   if (cfg.impact.valid()) r.beta = momentum_enhancement(r.bound, cfg.impact);
+  // Sphere-by-sphere escape speed about the bound remnant, a uniform sphere of radius R_ref =
+  // impact.target_radius x (M_bound / M_PB)^(1/3) if given, else sqrt(5/3) x its rms radius.
+  {
+    double R = 0.0;
+    if (cfg.target_radius > 0 && parent_body_mass > 0) {
+      R = cfg.target_radius * std::cbrt(r.bound.bound_mass / parent_body_mass);
+    } else {
+      double m2 = 0.0, mm = 0.0;
+      for (std::size_t i = 0; i < s.count(); ++i) {
+        if (!r.bound.bound[fof.clump_of[i]]) continue;
+        m2 += s.mass[i] * (Eigen::Vector3d(&s.position[3 * i]) - r.bound.bound_com).squaredNorm();
+        mm += s.mass[i];
+      }
+      R = mm > 0 ? std::sqrt(5.0 / 3.0 * m2 / mm) : 0.0;
+    }
+    if (!(R > 0)) R = s.radius.empty() ? 1.0 : s.radius[0];
+    const SpeedEscape se = escape_by_speed(s.position.data(), s.velocity.data(), s.mass.data(), s.count(),
+                                           r.bound.bound_mass, R, r.bound.bound_com, r.bound_velocity, cfg.G);
+    r.speed_escaping_mass = se.escaping_mass;
+    r.speed_reference_radius = R;
+    if (cfg.impact.valid()) {
+      const Eigen::Vector3d p = se.escaping_momentum - se.escaping_mass * cfg.impact.target_velocity;
+      r.beta_escape_speed = 1.0 - p.dot(cfg.impact.direction()) / cfg.impact.impactor_momentum();
+    }
+  }
   if (sphere_bound) {
     sphere_bound->assign(s.count(), 0);
     for (std::size_t i = 0; i < s.count(); ++i) (*sphere_bound)[i] = r.bound.bound[fof.clump_of[i]];
@@ -174,7 +200,8 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
                      d->values.data(), s.count(), nullptr, axis);
     }
     std::vector<char> bound;
-    SnapshotResult r = analyse_snapshot(s, cfg, o.link_length, k + 1 == heads.size() ? &bound : nullptr);
+    SnapshotResult r =
+        analyse_snapshot(s, cfg, o.link_length, k + 1 == heads.size() ? &bound : nullptr, o.parent_body_mass);
     r.file = heads[k].file;
     r.time = heads[k].time;
     spdlog::info("{}: t = {:.6g} s, {} spheres, {} clumps, M_LR/M_PB = {:.6f}, bound {:.6f}{}", r.file, r.time,
@@ -236,7 +263,7 @@ std::string timeseries_csv(const AnalysisOutcome& o) {
   s << "time,M_LR_over_M_PB,bound_mass_fraction,beta,n_clumps,escaping_mass,"
        "step,file,n_spheres,n_single,lr_spheres,M_LR,bound_mass,total_mass,n_bound_clumps,"
        "p_esc_x,p_esc_y,p_esc_z,p_esc_along_impact,beta_lr,beta_ejecta,beta_vector,beta_total,momentum_error,"
-       "bound_iterations\n";
+       "bound_iterations,speed_escaping_mass,beta_escape_speed\n";
   const double mpb = o.parent_body_mass;
   for (const auto& r : o.rows) {
     const auto& b = r.bound;
@@ -249,7 +276,9 @@ std::string timeseries_csv(const AnalysisOutcome& o) {
       << (r.beta ? fmt_num(r.beta->escaping_momentum_along) : "") << ','
       << (r.beta ? fmt_num(r.beta->beta_lr) : "") << ',' << (r.beta ? fmt_num(r.beta->beta_ejecta) : "") << ','
       << (r.beta && r.beta->beta_vector ? fmt_num(*r.beta->beta_vector) : "") << ','
-      << (r.beta ? fmt_num(r.beta->beta_total) : "") << ',' << (r.beta ? fmt_num(r.beta->momentum_error) : "") << ',' << b.iterations << '\n';
+      << (r.beta ? fmt_num(r.beta->beta_total) : "") << ',' << (r.beta ? fmt_num(r.beta->momentum_error) : "")
+      << ',' << b.iterations << ',' << fmt_num(r.speed_escaping_mass) << ','
+      << (r.beta_escape_speed ? fmt_num(*r.beta_escape_speed) : "") << '\n';
   }
   return s.str();
 }
@@ -315,6 +344,9 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
       .value("beta_vector", "Cheng et al. 2023 eq. 1: M dv = m U + m (beta-1)(E.U) E, E parallel to P_bound - m U")
       .value("beta_total", "P_bound . U_hat / P_total . U_hat: the snapshot's own total momentum as reference "
                            "(equals beta when P_total = m_imp U)")
+      .value("beta_escape_speed", "1 - P_esc,speed . U_hat / (m_imp |U|) with every sphere escaping on its own if "
+                                  "0.5|v - V|^2 + Phi(|x - C|) >= 0, Phi of a uniform sphere of the bound mass, radius "
+                                  "speed_reference_radius, centred on the bound remnant (usable at hand-off time)")
       .value("momentum_error", "|P_total - m_imp U| / (m_imp |U|)")
       .value("M_LR_over_M_PB", "largest-clump mass over parent-body mass")
       .value("bound_mass_fraction", "bound-remnant mass over parent-body mass")
@@ -347,7 +379,9 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
         .value("bound_remnant_velocity", r.bound_velocity)
         .value("bound_iterations", static_cast<long long>(b.iterations))
         .value("escaping_mass", b.escaping_mass)
-        .value("escaping_mass_fraction", b.escaping_mass / mpb);
+        .value("escaping_mass_fraction", b.escaping_mass / mpb)
+        .value("speed_escaping_mass", r.speed_escaping_mass)
+        .value("speed_reference_radius", r.speed_reference_radius);
     if (r.beta) {
       j.value("escaping_momentum", r.beta->escaping_momentum)
           .value("escaping_momentum_along_impact", r.beta->escaping_momentum_along)
@@ -356,6 +390,7 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
           .value("beta_ejecta", r.beta->beta_ejecta)
           .value("beta_vector", r.beta->beta_vector)
           .value("beta_total", r.beta->beta_total)
+          .value("beta_escape_speed", r.beta_escape_speed)
           .value("momentum_error", r.beta->momentum_error);
     } else {
       j.value("escaping_momentum", b.escaping_momentum)
@@ -365,6 +400,7 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
           .null("beta_ejecta")
           .null("beta_vector")
           .null("beta_total")
+          .null("beta_escape_speed")
           .null("momentum_error");
     }
     j.end_object();

@@ -26,13 +26,19 @@ struct SnapshotResult {
   std::size_t lr_count = 0;  ///< spheres in the largest clump
   BoundResult bound;         ///< per-clump flags dropped after use (bound.bound empty)
   std::optional<BetaResult> beta;
+  /// Sphere-by-sphere escape test (escape_speed.hpp) about the bound remnant, radius R_ref.
+  double speed_escaping_mass = 0.0;
+  double speed_reference_radius = 0.0;
+  std::optional<double> beta_escape_speed;  ///< 1 - P_esc,speed·Û / (m |U|)
   Eigen::Vector3d lr_velocity = Eigen::Vector3d::Zero(), bound_velocity = Eigen::Vector3d::Zero();
 };
 
 /// FOF + bound mass + beta of one sphere set. `sphere_bound` (optional) receives a per-sphere
 /// 0/1 flag of membership in the bound remnant.
+/// `parent_body_mass` scales impact.target_radius to the escape-speed reference radius (0: use
+/// the bound remnant's rms radius instead).
 SnapshotResult analyse_snapshot(const common::SphereSet& s, const AnalyseConfig& cfg, double eps,
-                                std::vector<char>* sphere_bound = nullptr);
+                                std::vector<char>* sphere_bound = nullptr, double parent_body_mass = 0.0);
 
 struct ProfileRecord {
   std::string source;  ///< file
