@@ -168,12 +168,18 @@ def classify_h5(path, run):
 
 def discover(run_dir, out_dir, args):
     run = Run()
+    seen = set()
+    skip_out = os.path.abspath(out_dir) != os.path.abspath(run_dir)  # --out may be RUN_DIR itself
     for root, dirs, files in os.walk(run_dir):
-        if os.path.abspath(root).startswith(os.path.abspath(out_dir)):
+        if skip_out and (os.path.abspath(root) + os.sep).startswith(os.path.abspath(out_dir) + os.sep):
             continue
         dirs.sort()
         for name in sorted(files):
             p = os.path.join(root, name)
+            real = os.path.realpath(p)
+            if real in seen:  # e.g. fragment/final.h5 -> the last snapshot
+                continue
+            seen.add(real)
             if name.endswith(".h5") and h5py is not None:
                 classify_h5(p, run)
             elif name.endswith(".audit.json"):
@@ -184,7 +190,7 @@ def discover(run_dir, out_dir, args):
                         j = json.load(f)
                     if isinstance(j, dict) and j.get("format") == "ssdem-analyse.summary":
                         run.analysis = run.analysis or p
-                    elif name.endswith(".timing.json"):
+                    elif name.endswith(".timing.json") or (isinstance(j, dict) and "stage" in j and "wall_s" in j):
                         run.timings.append(p)
                 except Exception:
                     pass
@@ -287,12 +293,18 @@ def parse_timing_file(path):
                 w = row.get("wall_s") or row.get("seconds") or row.get("wall")
                 if stage and w:
                     out.append((stage, float(w)))
-        elif name.endswith(".timing.json"):
+        elif name.endswith(".json"):  # {"stage", "wall_s"[, "exit_code", "threads"]} or a list of them
             with open(path) as f:
                 j = json.load(f)
             items = j if isinstance(j, list) else [j]
             for it in items:
-                out.append((str(it.get("stage", name[:-12])), float(it["wall_s"])))
+                stage = str(it.get("stage", name.split(".")[0]))
+                extra = []
+                if it.get("exit_code") not in (None, 0):
+                    extra.append(f"exit code {it['exit_code']}")
+                if it.get("threads") not in (None, ""):
+                    extra.append(f"{it['threads']} threads")
+                out.append((stage + (f" ({', '.join(extra)})" if extra else ""), float(it["wall_s"])))
         else:  # *.time
             text = open(path).read()
             stage = name[:-5]

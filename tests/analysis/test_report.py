@@ -183,6 +183,11 @@ def build_run(root, analyse):
         f.write("3.5\n")
     with open(os.path.join(root, "analysis", "report.time"), "w") as f:  # /usr/bin/time -p
         f.write("real 1.25\nuser 1.0\nsys 0.1\n")
+    os.makedirs(os.path.join(root, "timing"))
+    with open(os.path.join(root, "timing", "plot.json"), "w") as f:  # pipelines/impact/timed.sh
+        f.write('{"stage": "plot", "wall_s": 2.000, "exit_code": 0, "threads": "2"}\n')
+    # a link to the last MPM snapshot must not count twice
+    os.symlink("mpm_000002.h5", os.path.join(root, "fragment", "final.h5"))
     with open(os.path.join(root, "scene.toml"), "w") as f:
         f.write(SCENE)
     prefix = os.path.join(root, "analysis", "analysis")
@@ -235,7 +240,9 @@ def main():
     check("| 0.85 |" in md and "| 1.69 |" in md and "0.39 %" in md, "paper values beside ours")
     check("0.41 %" in md, "hand-off audit KE loss 0.41 % from the audit JSON")
     check("| fragment | 12.5 s |" in md and "| analyse | 3.5 s |" in md and "| report | 1.25 s |" in md
-          and "| **total** | 98 s |" in md, "run times table (csv, time -f %e, time -p) with total")
+          and "| plot (2 threads) | 2 s |" in md and "| **total** | 100 s |" in md,
+          "run times table (csv, time -f %e, time -p, timed.sh JSON) with total")
+    check("MPM snapshots: 3" in md, "three MPM snapshots (the final.h5 link not counted twice)")
     with open(prefix + ".json") as f:
         summ = json.load(f)
     lr = summ["final"]["M_LR_over_M_PB"]
@@ -260,6 +267,12 @@ def main():
         check(f"({png})" in md, f"report links {png}")
     check("checkpoint.h5" not in md, "checkpoint not counted as a snapshot")
     check("N-body snapshots: 3" in md, "three N-body snapshots found")
+
+    # report written into the run directory itself (as pipelines/impact does: RUN/report.md)
+    rc = subprocess.run([sys.executable, a.report, run, "--out", run]).returncode
+    md_in = open(os.path.join(run, "report.md")).read() if os.path.exists(os.path.join(run, "report.md")) else ""
+    check(rc == 0 and "N-body snapshots: 3" in md_in and "12500 J/kg" in md_in
+          and os.path.exists(os.path.join(run, "fig_history.png")), "--out RUN_DIR works (inputs still found)")
 
     # sparse run: only two N-body snapshots, nothing else
     sparse = os.path.join(a.workdir, "sparse")
