@@ -27,9 +27,10 @@ int main(int argc, char** argv) {
   {
     std::FILE* f = std::fopen((out + "/history_" + tag + ".csv").c_str(), "w");
     if (!f) return 4;
-    std::fprintf(f, "t_s,F_N,sigma_t_Pa,mean_D,max_D\n");
+    std::fprintf(f, "t_s,F_N,sigma_t_Pa,mean_D,max_D,F_platen_N,sxx_center_Pa\n");
     for (const auto& s : r.history)
-      std::fprintf(f, "%.6e,%.6e,%.6e,%.6e,%.6e\n", s.t, s.F, s.sigma_t, s.meanD, s.maxD);
+      std::fprintf(f, "%.6e,%.6e,%.6e,%.6e,%.6e,%.6e,%.6e\n", s.t, s.F, s.sigma_t, s.meanD,
+                   s.maxD, s.F_platen, s.sxx_center);
     std::fclose(f);
   }
   {
