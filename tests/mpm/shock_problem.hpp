@@ -109,16 +109,6 @@ ppc = )" + std::to_string(ppc) + R"(
   r.P = Psum / cnt;
   r.rho = rsum / cnt;
   r.v_behind = vsum / cnt;
-  // shock position: where P first drops below P/2 going outward, linearly interpolated
-  std::sort(prof.begin(), prof.end());
-  double zs = 0;
-  for (std::size_t i = 1; i < prof.size(); ++i)
-    if (prof[i - 1].second >= 0.5 * r.P && prof[i].second < 0.5 * r.P && prof[i].first > 0.5 * zs_guess) {
-      const double f = (prof[i - 1].second - 0.5 * r.P) / (prof[i - 1].second - prof[i].second);
-      zs = prof[i - 1].first + f * (prof[i].first - prof[i - 1].first);
-      break;
-    }
-  r.shock_speed_lab = zs / t_end;
   const Exact ex = hugoniot(mpmfrag::TillotsonParams{}, up);
   const double zs_exact = (ex.Us - up) * t_end;
   // cell-binned profile (mass-weighted = particle mean, equal masses), as recommended for MPM
@@ -133,6 +123,19 @@ ppc = )" + std::to_string(ppc) + R"(
       ++bcnt[b];
     }
   }
+  // shock position: where the binned P first drops below P/2 going outward (linear interpolation)
+  double zs = 0, zprev = 0, pprev = -1;
+  for (int b = 0; b < nbins; ++b) {
+    if (!bcnt[b]) continue;
+    const double zc = (b + 0.5) * h, pb = bsum[b] / bcnt[b];
+    if (pprev >= 0.5 * r.P && pb < 0.5 * r.P && zc > 0.5 * zs_guess) {
+      zs = zprev + (zc - zprev) * (pprev - 0.5 * r.P) / (pprev - pb);
+      break;
+    }
+    zprev = zc;
+    pprev = pb;
+  }
+  r.shock_speed_lab = zs / t_end;
   double l1 = 0;
   int nb = 0;
   for (int b = 0; b < nbins; ++b) {
