@@ -536,6 +536,13 @@ def main(argv=None):
     md.append(f"| parent-body mass M_PB (for M_LR/M_PB) | {fmt(inp.get('parent_body_mass'), 5, 'kg')} | "
               f"{inp.get('parent_body_mass_source', NA)} |")
     md.append(f"| impact direction | {inp.get('impact_direction', NA)} | analysis |")
+    if inp.get("impact_source"):
+        md.append(f"| impact values used by the analysis | from {inp['impact_source']} | analysis |")
+    mi = inp.get("mpm_initial")
+    if isinstance(mi, dict):
+        md.append(f"| discretised impactor / target (MPM t = 0) | {fmt(mi.get('impactor_mass'), 5, 'kg')} "
+                  f"({mi.get('impactor_particles', '?')} particles) / {fmt(mi.get('target_mass'), 5, 'kg')} "
+                  f"({mi.get('target_particles', '?')} particles) | analysis |")
     md.append(f"| specific impact energy Q = m_imp U^2 / (2 M_target) | {fmt(Q, 5, 'J/kg')} = {fmt(Q * 1e4 if Q else None, 4, 'erg/g')} | computed |")
     md.append(f"| Q*_D (Benz & Asphaug 1999, basalt 5 km/s, R, rho = {fmt(rho_t, 4)} kg/m^3) | {fmt(Qs, 4, 'erg/g')} | computed |")
     md.append(f"| Q / Q*_D | {fmt(q_ratio, 3)} | computed |")

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <string>
 
+#include "analysis/analyse_scene.hpp"
 #include "common/particle_file.hpp"
 #include "common/sphere_file.hpp"
 #include "sphere_configs.hpp"
@@ -143,4 +144,48 @@ TEST(AnalyseTool, BadInputsExitWithCodeTwoNamingFileAndKey) {
   EXPECT_EQ(r.code, 0) << r.out;
   EXPECT_TRUE(fs::exists(dir / "x.json"));
   EXPECT_NE(slurp(dir / "x.json").find("/particles/damage missing"), std::string::npos);
+}
+
+TEST(AnalyseTool, ImpactTakenFromTheInitialMpmSnapshot) {
+  const fs::path dir = fs::temp_directory_path() / "ssdem_analyse_mpm0";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  // t = 0: 64 target particles at rest (1e12 kg) + 3 impactor particles (1e9 kg) at -5 km/s z
+  common::ParticleSnapshot p;
+  p.grid.shape = {2, 2, 2};
+  for (int i = 0; i < 67; ++i) {
+    const bool imp = i >= 64;
+    p.id.push_back(i);
+    p.position.insert(p.position.end(), {100.0 * (i % 4), 100.0 * ((i / 4) % 4), imp ? 500.0 + 100 * (i - 64) : 100.0 * (i / 16)});
+    p.velocity.insert(p.velocity.end(), {0.0, 0.0, imp ? -5000.0 : 0.0});
+    p.mass.push_back(imp ? 1e9 : 1e12);
+    p.volume.push_back(1.0);
+    p.size.insert(p.size.end(), {100.0, 100.0, 100.0});
+    p.material.push_back(0);
+  }
+  common::write_particle_snapshot((dir / "mpm0.h5").string(), p, prov());
+  const analysis::MpmImpact mi = analysis::impact_from_mpm((dir / "mpm0.h5").string());
+  EXPECT_DOUBLE_EQ(mi.impactor_mass, 3e9);
+  EXPECT_DOUBLE_EQ(mi.target_mass, 64e12);
+  EXPECT_EQ(mi.impactor_particles, 3u);
+  EXPECT_TRUE(mi.impactor_velocity.isApprox(Eigen::Vector3d(0, 0, -5000)));
+  EXPECT_TRUE(mi.target_velocity.isZero());
+  common::write_sphere_set((dir / "s.h5").string(), snapshot(100.0), prov());
+  RunResult r = run((dir / "s.h5").string() + " --mpm-initial " + (dir / "mpm0.h5").string() + " -o " + (dir / "a").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string js = slurp(dir / "a.json");
+  EXPECT_NE(js.find("\"impactor_mass\": 3000000000,"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"parent_body_mass\": 64000000000000,"), std::string::npos) << js;
+  EXPECT_NE(js.find("\"impact_source\": \"initial MPM snapshot"), std::string::npos) << js;
+  // an explicitly given value wins over the snapshot's
+  r = run((dir / "s.h5").string() + " --mpm-initial " + (dir / "mpm0.h5").string() + " --impactor-mass 5e9 -o " +
+          (dir / "b").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  EXPECT_NE(slurp(dir / "b.json").find("\"impactor_mass\": 5000000000,"), std::string::npos);
+  // all particles at rest: no impactor to find -> exit 2 naming the dataset
+  for (auto& v : p.velocity) v = 0.0;
+  common::write_particle_snapshot((dir / "rest.h5").string(), p, prov());
+  r = run((dir / "s.h5").string() + " --mpm-initial " + (dir / "rest.h5").string() + " -o " + (dir / "c").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("/particles/velocity"), std::string::npos) << r.out;
 }

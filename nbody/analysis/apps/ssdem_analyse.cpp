@@ -18,6 +18,8 @@ int main(int argc, char** argv) {
   app.add_scene_flag("-o,--output-prefix", "output.prefix",
                      "writes <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv");
   app.add_scene_flag("--mpm", "damage.mpm_snapshot", "mpm-frag snapshot for the end-of-MPM damage profile");
+  app.add_scene_flag("--mpm-initial", "impact.from_mpm",
+                     "mpm-frag snapshot at t = 0: impactor/target masses and velocities as discretised");
   app.add_scene_flag("--impactor-mass", "impact.impactor_mass", "impactor mass [kg]");
   app.add_scene_flag("--impactor-velocity", "impact.impactor_velocity", "impactor velocity [m/s], e.g. [0,0,-5000]");
   app.add_scene_flag("--parent-mass", "impact.parent_body_mass", "parent-body mass M_PB [kg]");

@@ -164,8 +164,24 @@ SnapshotResult analyse_snapshot(const common::SphereSet& s, const AnalyseConfig&
   return r;
 }
 
-AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
+AnalysisOutcome run_analysis(const AnalyseConfig& cfg_in) {
+  AnalyseConfig cfg = cfg_in;
   if (cfg.inputs.empty()) throw common::InputError(cfg.scene_source, "inputs", "no snapshot given");
+  std::string impact_source = "scene";
+  std::optional<MpmImpact> mpm0;
+  if (!cfg.impact_from_mpm.empty()) {
+    mpm0 = impact_from_mpm(cfg.impact_from_mpm);
+    if (!cfg.impactor_mass_given) cfg.impact.impactor_mass = mpm0->impactor_mass;
+    if (!cfg.impactor_velocity_given) cfg.impact.impactor_velocity = mpm0->impactor_velocity;
+    if (!cfg.target_velocity_given) cfg.impact.target_velocity = mpm0->target_velocity;
+    if (!cfg.parent_body_mass_given) cfg.parent_body_mass = mpm0->target_mass;
+    impact_source = "initial MPM snapshot " + cfg.impact_from_mpm + " for the values not given in the scene";
+    spdlog::info("{}: impactor {} particles, {:.6g} kg at [{:.6g}, {:.6g}, {:.6g}] m/s; target {} particles, {:.6g} kg",
+                 cfg.impact_from_mpm, mpm0->impactor_particles, mpm0->impactor_mass, mpm0->impactor_velocity[0],
+                 mpm0->impactor_velocity[1], mpm0->impactor_velocity[2], mpm0->target_particles, mpm0->target_mass);
+    if (cfg.impact.impactor_mass > 0 && !cfg.impact.valid())
+      throw common::InputError(cfg.impact_from_mpm, "/particles/velocity", "impactor and target velocities coincide");
+  }
   std::vector<Header> heads;
   for (const auto& f : cfg.inputs) {
     Header h = read_header(f);
@@ -178,6 +194,9 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
   std::stable_sort(heads.begin(), heads.end(), [](const Header& a, const Header& b) { return a.time < b.time; });
 
   AnalysisOutcome o;
+  o.cfg = cfg;
+  o.impact_source = impact_source;
+  if (mpm0) o.mpm_impact = *mpm0;
   const Eigen::Vector3d axis = profile_axis(cfg, o.notes);
   common::SphereSet last;
   std::vector<char> last_bound;
@@ -189,7 +208,9 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg) {
                                           : default_link_length(s.radius.data(), s.count(), cfg.link_fraction);
       if (cfg.parent_body_mass > 0) {
         o.parent_body_mass = cfg.parent_body_mass;
-        o.parent_body_mass_source = "scene (impact.parent_body_mass)";
+        o.parent_body_mass_source = (mpm0 && !cfg.parent_body_mass_given)
+                                        ? "target particles of " + cfg.impact_from_mpm
+                                        : "scene (impact.parent_body_mass)";
       } else {
         o.parent_body_mass = std::accumulate(s.mass.begin(), s.mass.end(), 0.0);
         o.parent_body_mass_source = "total mass of the earliest snapshot (" + heads[k].file + ")";
@@ -300,7 +321,8 @@ namespace {
 std::string out_path(const AnalyseConfig& c, const std::string& suffix) { return c.prefix + suffix; }
 }  // namespace
 
-std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, const common::Provenance& prov) {
+std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg_in, const common::Provenance& prov) {
+  const AnalyseConfig& cfg = o.cfg ? *o.cfg : cfg_in;  // the values actually used
   JsonWriter j;
   j.begin_object();
   j.value("format", "ssdem-analyse.summary").value("format_version", 1LL);
@@ -322,6 +344,19 @@ std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, con
       .value("impact_speed", cfg.impact.relative_velocity().norm())
       .value("impactor_momentum", cfg.impact.impactor_momentum())
       .value("impact_direction", cfg.impact.direction())
+      .value("impact_source", o.impact_source.empty() ? std::string("scene") : o.impact_source)
+      .value("impact_from_mpm", cfg.impact_from_mpm);
+  if (o.mpm_impact) {
+    j.begin_object("mpm_initial")
+        .value("impactor_mass", o.mpm_impact->impactor_mass)
+        .value("impactor_velocity", o.mpm_impact->impactor_velocity)
+        .value("impactor_particles", static_cast<long long>(o.mpm_impact->impactor_particles))
+        .value("target_mass", o.mpm_impact->target_mass)
+        .value("target_velocity", o.mpm_impact->target_velocity)
+        .value("target_particles", static_cast<long long>(o.mpm_impact->target_particles))
+        .end_object();
+  }
+  j
       .value("parent_body_mass", o.parent_body_mass)
       .value("parent_body_mass_source", o.parent_body_mass_source)
       .value("target_radius", cfg.target_radius)

@@ -26,9 +26,28 @@ struct AnalyseConfig {
   double range_lo = 0.0, range_hi = 0.0;  ///< axial range; lo >= hi: automatic (see run_analysis.cpp)
   double cylinder_radius = 0.0;
   std::optional<Eigen::Vector3d> axis, origin;
+  /// mpm-frag snapshot at t = 0: impactor/target masses and velocities are taken from its
+  /// particles for every impact.* value not given explicitly (see impact_from_mpm()).
+  std::string impact_from_mpm;
+  bool impactor_mass_given = false, impactor_velocity_given = false, target_velocity_given = false,
+       parent_body_mass_given = false;
   std::string prefix = "analysis";  ///< writes <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv
   std::string scene_source;         ///< for messages
 };
+
+/// What impact_from_mpm() found in the initial particle snapshot.
+struct MpmImpact {
+  double impactor_mass = 0.0, target_mass = 0.0;
+  Eigen::Vector3d impactor_velocity = Eigen::Vector3d::Zero(), target_velocity = Eigen::Vector3d::Zero();
+  std::size_t impactor_particles = 0, target_particles = 0;
+};
+
+/// Split the particles of an initial mpm-frag snapshot into target and impactor by velocity:
+/// v_ref = mass-weighted median velocity (the target's, which dominates the mass); impactor =
+/// particles with |v - v_ref| > 0.5 max_i |v_i - v_ref|. Masses and mass-weighted velocities of
+/// both parts, i.e. the impact as the simulation discretised it. Throws common::InputError if the
+/// file is not a particle snapshot or no impactor stands out.
+MpmImpact impact_from_mpm(const std::string& path);
 
 common::Schema analyse_schema();
 /// Resolve and check a scene (throws common::InputError naming the scene and key).

@@ -57,6 +57,9 @@ struct AnalysisOutcome {
   std::string parent_body_mass_source;
   double link_length = 0.0;
   std::vector<std::string> notes;
+  std::optional<AnalyseConfig> cfg;  ///< the configuration actually used (impact values resolved)
+  std::string impact_source;      ///< where the impact values came from
+  std::optional<MpmImpact> mpm_impact;
 };
 
 /// Read the snapshots of `cfg.inputs` (stably sorted by time on the N-body clock: the `time`
