@@ -2,6 +2,8 @@
 #include "ssdem/generators.hpp"
 
 #include <cmath>
+#include <unordered_map>
+#include <vector>
 
 #include "common/rng.hpp"
 #include "common/status.hpp"
@@ -33,10 +35,17 @@ Spheres lattice_pile(double R, double s, double rho, double jitter, std::uint64_
 
 Spheres random_cloud(std::size_t n, double R, double s, double rho, std::uint64_t seed,
                      const Vec3& centre, std::uint64_t first_id) {
-  if (n * s * s * s > 0.3 * R * R * R)
+  if (static_cast<double>(n) * s * s * s > 0.3 * R * R * R)
     throw common::InputError("random_cloud: too many spheres for the ball (filling > 30 %)");
   Spheres sp;
   const double m = rho * 4.0 / 3.0 * M_PI * s * s * s;
+  // hash grid of cell size 2s: a new sphere can only overlap spheres in the 27 cells around it
+  const double cs = 2.0 * s;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> grid;
+  auto key = [&](long long i, long long j, long long k) {
+    return (static_cast<std::uint64_t>(i + (1 << 20)) << 42) |
+           (static_cast<std::uint64_t>(j + (1 << 20)) << 21) | static_cast<std::uint64_t>(k + (1 << 20));
+  };
   std::uint64_t tries = 0;
   for (std::size_t q = 0; q < n; ++q) {
     const std::uint64_t id = first_id + q;
@@ -46,10 +55,23 @@ Spheres random_cloud(std::size_t n, double R, double s, double rho, std::uint64_
       Vec3 p(2 * rng.uniform() - 1, 2 * rng.uniform() - 1, 2 * rng.uniform() - 1);
       if (p.norm() > 1.0) continue;
       p *= (R - s);
+      const long long ci = static_cast<long long>(std::floor(p.x() / cs));
+      const long long cj = static_cast<long long>(std::floor(p.y() / cs));
+      const long long ck = static_cast<long long>(std::floor(p.z() / cs));
       bool ok = true;
-      for (std::size_t o = 0; o < sp.size() && ok; ++o)
-        if ((sp.x[o] - centre - p).squaredNorm() < 4 * s * s) ok = false;
+      for (long long a = -1; a <= 1 && ok; ++a)
+        for (long long b = -1; b <= 1 && ok; ++b)
+          for (long long c = -1; c <= 1 && ok; ++c) {
+            auto it = grid.find(key(ci + a, cj + b, ck + c));
+            if (it == grid.end()) continue;
+            for (std::uint32_t o : it->second)
+              if ((sp.x[o] - centre - p).squaredNorm() < 4 * s * s) {
+                ok = false;
+                break;
+              }
+          }
       if (!ok) continue;
+      grid[key(ci, cj, ck)].push_back(static_cast<std::uint32_t>(sp.size()));
       sp.push(id, centre + p, Vec3::Zero(), Vec3::Zero(), m, s);
       break;
     }

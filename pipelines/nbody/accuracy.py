@@ -1,0 +1,127 @@
+#!/usr/bin/env python3
+"""nbody-accuracy: error against wall time for a self-gravitating rubble pile and a two-body
+reaccumulation, across dt (steps per contact), opening angle theta and the gravity update
+interval k (RESPA outer step k*dt). Reference: 60 steps per contact, theta = 0.2, k = 1.
+
+Errors: |E_end - E_ref,end| / |W_0| (energy, incl. elastic and dissipation history) and the rms
+final-position difference / sphere radius. Granular flows are chaotic, so position differences
+of unrelated perturbations grow; compare variants against each other at equal simulated time.
+
+Usage: accuracy.py <ssdem-grav> <outdir>
+"""
+import os
+import sys
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(__file__))
+from common_runs import last_snapshot, run, series  # noqa: E402
+
+EXE, OUT = sys.argv[1], sys.argv[2]
+SCENES = {
+    "rubble_pile": ("""
+[time]
+end = 300.0
+[initial]
+source = "lattice_pile"
+body_radius = 8.0
+sphere_radius = 1.0
+density = 2000.0
+jitter = 0.05
+[contact]
+preset = "gravel"
+[output]
+series_every = 50
+checkpoint_wall = 0.0
+progress_interval = 1000.0
+""", []),
+    "two_body": ("""
+[time]
+end = 600.0
+[initial]
+source = "two_bodies"
+body_radius = 6.0
+body2_radius = 4.0
+sphere_radius = 1.0
+density = 2000.0
+jitter = 0.05
+body2_offset = [12.0, 1.5, 0.0]
+body2_velocity = [-0.015, 0.0, 0.0]
+[contact]
+preset = "gravel"
+vmax = 0.05
+[output]
+series_every = 50
+checkpoint_wall = 0.0
+progress_interval = 1000.0
+""", []),
+}
+REF = {"spc": 60, "theta": 0.2, "every": 1}
+VARIANTS = [dict(spc=s, theta=0.3, every=1) for s in (20, 30, 45)]
+VARIANTS += [dict(spc=30, theta=t, every=1) for t in (0.5, 0.7)]
+VARIANTS += [dict(spc=30, theta=0.3, every=k) for k in (10, 50, 200)]
+VARIANTS += [dict(spc=30, theta=0.5, every=50)]
+
+
+def sets(v):
+    return [f"time.steps_per_contact={v['spc']}", f"gravity.theta={v['theta']}",
+            f"gravity.every={v['every']}"]
+
+
+rows = []
+os.makedirs(OUT, exist_ok=True)
+for name, (text, extra) in SCENES.items():
+    scene = os.path.join(OUT, f"{name}.toml")
+    with open(scene, "w") as f:
+        f.write(text)
+    ref_dir = os.path.join(OUT, name, "ref")
+    wall_ref = run(EXE, scene, ref_dir, sets(REF) + extra)
+    sref = series(ref_dir)
+    ids_r, x_r, rad, t_r = last_snapshot(ref_dir)
+    W0 = abs(sref["potential_self_J"][0])
+    for v in VARIANTS:
+        d = os.path.join(OUT, name, f"spc{v['spc']}_th{v['theta']}_k{v['every']}")
+        wall = run(EXE, scene, d, sets(v) + extra)
+        s = series(d)
+        ids, x, _, t = last_snapshot(d)
+        assert np.array_equal(ids, ids_r)
+        dE = abs(s["total_J"][-1] - sref["total_J"][-1]) / W0
+        drift = abs(s["total_J"][-1] - s["total_J"][0]) / W0
+        dx = np.sqrt(np.mean(np.sum((x - x_r) ** 2, axis=1))) / np.mean(rad)
+        rows.append(dict(scene=name, **v, wall_s=wall, dE_vs_ref=dE, dx_rms_over_r=dx,
+                         E_change_over_W0=drift, t_end=t, t_ref=t_r, wall_ref_s=wall_ref))
+        print(rows[-1], flush=True)
+
+keys = ["scene", "spc", "theta", "every", "wall_s", "wall_ref_s", "dE_vs_ref", "dx_rms_over_r",
+        "E_change_over_W0", "t_end"]
+with open(os.path.join(OUT, "accuracy.csv"), "w") as f:
+    f.write(",".join(keys) + "\n")
+    for r in rows:
+        f.write(",".join(str(r[k]) for k in keys) + "\n")
+with open(os.path.join(OUT, "accuracy.md"), "w") as f:
+    f.write("| scene | steps/contact | theta | gravity every | wall s | |E-E_ref|/|W0| | rms dx / r |\n")
+    f.write("|---|---|---|---|---|---|---|\n")
+    for r in rows:
+        f.write(f"| {r['scene']} | {r['spc']} | {r['theta']} | {r['every']} | {r['wall_s']:.2f} | "
+                f"{r['dE_vs_ref']:.2e} | {r['dx_rms_over_r']:.2e} |\n")
+
+fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+for ax, key, lab in [(axes[0], "dE_vs_ref", "|E - E_ref| / |W0| at t_end"),
+                     (axes[1], "dx_rms_over_r", "rms |x - x_ref| / radius at t_end")]:
+    for name, mk in [("rubble_pile", "o"), ("two_body", "s")]:
+        for r in rows:
+            if r["scene"] != name:
+                continue
+            ax.loglog(r["wall_s"], max(r[key], 1e-16), mk, color="C0" if r["every"] == 1 else "C1")
+            ax.annotate(f"{r['spc']}/{r['theta']}/{r['every']}", (r["wall_s"], max(r[key], 1e-16)),
+                        fontsize=6)
+    ax.set_xlabel("wall time [s] (1 thread)")
+    ax.set_ylabel(lab)
+    ax.grid(True, which="both", alpha=0.3)
+axes[0].set_title("o rubble pile, s two-body; labels steps/contact / theta / k")
+fig.tight_layout()
+fig.savefig(os.path.join(OUT, "accuracy.png"), dpi=120)
+print("wrote", os.path.join(OUT, "accuracy.csv"), os.path.join(OUT, "accuracy.png"))
