@@ -504,9 +504,13 @@ def main(argv=None):
 
     # ---- inputs and Q ---------------------------------------------------------------------
     inp = (summary or {}).get("inputs", {})
-    m_imp = inp.get("impactor_mass") or (bodies["impactor"]["mass"] if bodies else None)
-    speed = inp.get("impact_speed") or (float(np.linalg.norm(bodies["impactor"]["velocity"] - bodies["target"]["velocity"]))
-                                        if bodies else None)
+    # Q from the scene (nominal bodies, as the paper defines it); the analysis values otherwise
+    if bodies:
+        m_imp, m_src = bodies["impactor"]["mass"], "scene"
+        speed, v_src = float(np.linalg.norm(bodies["impactor"]["velocity"] - bodies["target"]["velocity"])), "scene"
+    else:
+        m_imp, m_src = inp.get("impactor_mass") or None, "analysis" if inp.get("impactor_mass") else NA
+        speed, v_src = inp.get("impact_speed") or None, "analysis" if inp.get("impact_speed") else NA
     if bodies:
         M_t, M_t_src = bodies["target"]["mass"], f"target body of the scene ({bodies['source']})"
     elif inp.get("parent_body_mass"):
@@ -527,8 +531,11 @@ def main(argv=None):
     q_ratio = Q * 1e4 / Qs if (Q and Qs) else None
     md.append("## Inputs\n")
     md.append("| quantity | value | source |\n|---|---|---|")
-    md.append(f"| impactor mass m_imp | {fmt(m_imp, 5, 'kg')} | {'analysis' if inp.get('impactor_mass') else ('scene' if bodies else NA)} |")
-    md.append(f"| impact speed U | {fmt(speed, 5, 'm/s')} | {'analysis' if inp.get('impact_speed') else ('scene' if bodies else NA)} |")
+    md.append(f"| impactor mass m_imp | {fmt(m_imp, 5, 'kg')} | {m_src} |")
+    md.append(f"| impact speed U | {fmt(speed, 5, 'm/s')} | {v_src} |")
+    if bodies and inp.get("impactor_mass"):
+        md.append(f"| impactor mass / speed used for beta | {fmt(inp.get('impactor_mass'), 5, 'kg')} / "
+                  f"{fmt(inp.get('impact_speed'), 5, 'm/s')} | analysis |")
     if bodies:
         md.append(f"| impactor radius | {fmt(bodies['impactor']['radius'], 5, 'm')} | scene |")
     md.append(f"| target mass M_target | {fmt(M_t, 5, 'kg')} | {M_t_src} |")
@@ -543,6 +550,12 @@ def main(argv=None):
         md.append(f"| discretised impactor / target (MPM t = 0) | {fmt(mi.get('impactor_mass'), 5, 'kg')} "
                   f"({mi.get('impactor_particles', '?')} particles) / {fmt(mi.get('target_mass'), 5, 'kg')} "
                   f"({mi.get('target_particles', '?')} particles) | analysis |")
+        try:
+            vi = np.asarray(mi["impactor_velocity"], float) - np.asarray(mi["target_velocity"], float)
+            qd = 0.5 * mi["impactor_mass"] * float(vi @ vi) / mi["target_mass"]
+            md.append(f"| Q of the discretised bodies | {fmt(qd, 5, 'J/kg')} | computed |")
+        except (KeyError, TypeError, ZeroDivisionError):
+            pass
     md.append(f"| specific impact energy Q = m_imp U^2 / (2 M_target) | {fmt(Q, 5, 'J/kg')} = {fmt(Q * 1e4 if Q else None, 4, 'erg/g')} | computed |")
     md.append(f"| Q*_D (Benz & Asphaug 1999, basalt 5 km/s, R, rho = {fmt(rho_t, 4)} kg/m^3) | {fmt(Qs, 4, 'erg/g')} | computed |")
     md.append(f"| Q / Q*_D | {fmt(q_ratio, 3)} | computed |")

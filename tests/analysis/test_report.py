@@ -225,6 +225,13 @@ def main():
     ap.add_argument("--workdir", required=True)
     a = ap.parse_args()
     os.makedirs(a.workdir, exist_ok=True)
+    # Q*_D formula against validation-data.md §4.2: 2.649e8 erg/g at R = 12.5 km (5 km/s basalt), 9.94e6 at 1 km
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_report", a.report)
+    mr = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mr)
+    check(abs(mr.q_star_ba99(12500.0, 2700.0) / 2.649e8 - 1) < 1e-3, f"Q*_D(12.5 km) = {mr.q_star_ba99(12500.0, 2700.0):.4g} erg/g (2.649e8)")
+    check(abs(mr.q_star_ba99(1000.0, 2700.0) / 9.94e6 - 1) < 2e-3, f"Q*_D(1 km) = {mr.q_star_ba99(1000.0, 2700.0):.4g} erg/g (9.94e6)")
     run = os.path.join(a.workdir, "run")
     prefix = build_run(run, a.analyse)
     rc = subprocess.run([sys.executable, a.report, run]).returncode
