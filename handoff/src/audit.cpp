@@ -49,7 +49,7 @@ double Audit::momentum_error_relative() const {
   return scale > 0 ? (after.momentum - before.momentum).norm() / scale : 0.0;
 }
 double Audit::angular_momentum_error_relative() const {
-  const double scale = before.angular_momentum.norm();
+  const double scale = std::max(before.angular_momentum.norm(), before.angular_momentum_scale);
   return scale > 0 ? (after.angular_momentum - before.angular_momentum).norm() / scale : 0.0;
 }
 

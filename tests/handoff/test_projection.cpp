@@ -143,7 +143,7 @@ TEST(Projection, UniformRotationLossMatchesDerivation) {
   const double h = 1.0, m = 0.125, omega = 3.0;
   const int cells = 20, c0 = 4, nc = 12, n = 2;
   const Eigen::Vector3d O(10.3, 9.7, 0.0);
-  const auto s = testsets::filled_box(cells, h, c0, nc, n, m, [&](const Eigen::Vector3d& x) {
+  const auto s = testsets::filled_box(cells, h, c0, nc, n, m, [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
     return Eigen::Vector3d(0, 0, omega).cross(x - O);
   });
   const auto o = hand_off(s, paper_config());
@@ -188,7 +188,7 @@ TEST(Projection, RotationLossIsSecondOrderInCellSize) {
   auto rel_loss = [&](double h) {
     const int nc = static_cast<int>(std::lround(12.0 / h));
     const Eigen::Vector3d O = Eigen::Vector3d::Constant(4 * h + 6.0);  // box centre
-    const auto s = testsets::filled_box(nc + 8, h, 4, nc, 2, 1.0, [&](const Eigen::Vector3d& x) {
+    const auto s = testsets::filled_box(nc + 8, h, 4, nc, 2, 1.0, [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
       return Eigen::Vector3d(0, 0, omega).cross(x - O);
     });
     return hand_off(s, paper_config()).audit.kinetic_loss_relative();

@@ -27,7 +27,9 @@ struct Audit {
   double kinetic_loss_relative() const { return before.kinetic() > 0 ? kinetic_loss() / before.kinetic() : 0.0; }
   double mass_error_relative() const;
   double momentum_error_relative() const;        ///< |dP| / (M * rms speed)
-  double angular_momentum_error_relative() const;  ///< |dL| / max(|L_before|, tiny)
+  /// |dL| / max(|L_before|, sum m |r| |u|): relative to the angular momentum the motion could
+  /// carry, so that a head-on impact (L ~ 0) does not divide by round-off.
+  double angular_momentum_error_relative() const;
 };
 
 /// Smallest gap between spheres whose cells neighbour each other (+inf for a single sphere).

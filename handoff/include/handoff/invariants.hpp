@@ -18,6 +18,9 @@ struct Invariants {
   Eigen::Vector3d angular_momentum = Eigen::Vector3d::Zero();  ///< about the centre of mass
   double kinetic_translational = 0.0;
   double kinetic_rotational = 0.0;
+  /// sum m |x - X| |v - V| (+ sum I_s |omega|): the largest |L| this motion could have; the scale
+  /// for relative angular-momentum errors, meaningful also when L itself is near zero (head-on).
+  double angular_momentum_scale = 0.0;
   std::size_t count = 0;
   double kinetic() const { return kinetic_translational + kinetic_rotational; }
 };
