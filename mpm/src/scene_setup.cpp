@@ -90,8 +90,9 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_choice("solver.scheme", std::string("musl"), {"usl", "usf", "musl"}, "stress-update order");
   s.add_real("solver.flip", 1.0, "1", 0.0, 1.0, "FLIP fraction of the particle velocity update (1 = FLIP, 0 = PIC)");
   s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(c + |v|)", true);
-  s.add_real("solver.min_mass_fraction", 1e-3, "1", 0.0, 1.0,
-             "nodes lighter than this fraction of the smallest particle mass get no acceleration");
+  s.add_real("solver.min_mass_fraction", 0.0, "1", 0.0, 1.0,
+             "nodes lighter than this fraction of the smallest particle mass get no acceleration "
+             "(0 = off, exact momentum conservation; uGIMP needs none, use ~1e-2 with linear shape functions)");
   s.add_vec3("solver.gravity", Eigen::Vector3d::Zero(), "m/s^2", -kBig, kBig, "uniform gravitational acceleration");
   s.add_bool("solver.artificial_viscosity.enabled", false, "bulk artificial viscosity (linear + quadratic), for shocks");
   s.add_real("solver.artificial_viscosity.a1", 0.2, "1", 0.0, 10.0, "linear coefficient A1");

@@ -57,7 +57,9 @@ struct SolverConfig {
   double flip = 1.0;                 ///< FLIP fraction alpha in [0,1]
   double courant = 0.3;              ///< C in dt = C h / (c + |v|)
   double dt_max = std::numeric_limits<double>::infinity();  ///< cap on dt [s]
-  double min_mass_fraction = 1e-3;   ///< m_min = fraction * smallest particle mass
+  /// m_min = fraction * smallest particle mass; nodes with m <= m_min get no acceleration. Any
+  /// m_min > 0 discards the force on those nodes, so momentum is then conserved only to ~1e-6.
+  double min_mass_fraction = 0.0;
   bool artificial_viscosity = false;
   double av_a1 = 0.2, av_a2 = 2.0;
   /// x-, x+, y-, y+, z-, z+
