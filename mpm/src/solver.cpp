@@ -543,8 +543,13 @@ void Solver::musl_remap() {
   const ShapeKind kind = cfg_.shape;
   const Eigen::Vector3d o = grid_.origin, h = grid_.cell_size;
   const double alpha = cfg_.flip;
-  mom2_.assign(3 * nodes_.size(), 0.0);
+  mom2_.resize(3 * nodes_.size());
   double* m2 = mom2_.data();
+  {
+    const std::size_t n3 = mom2_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n3; ++i) m2[i] = 0.0;
+  }
   std::size_t first_bad = ps_.size();
   for (int colour = 0; colour < 8; ++colour) {
     const std::vector<std::uint32_t>& blocks = colour_blocks_[colour];
@@ -652,7 +657,12 @@ void Solver::step(double dt) {
     for (std::size_t b = 0; b < n; b += kReduceChunk)
       body_force_(b, std::min(n, b + kReduceChunk), time_, ps_, body_accel_.data() + 3 * b);
   }
-  std::memset(static_cast<void*>(nodes_.data()), 0, nodes_.size() * sizeof(Node));
+  {
+    Node* nd = nodes_.data();
+    const std::size_t nn = nodes_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < nn; ++i) nd[i] = Node{};
+  }
   auto scat = [&](auto mode) {
     constexpr int M = decltype(mode)::value;
     lin ? scatter<2, M>() : scatter<3, M>();
