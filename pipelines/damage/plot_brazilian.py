@@ -63,13 +63,13 @@ fig.savefig(f"{out}/brazilian.png", dpi=150)
 
 if rows:
     sel = [rows[0], rows[-1]] if len(rows) > 1 else rows
-    fig, axs = plt.subplots(1, len(sel), figsize=(5 * len(sel), 4.6))
+    fig, axs = plt.subplots(1, len(sel), figsize=(5.2 * len(sel), 4.8), constrained_layout=True)
     axs = np.atleast_1d(axs)
     for a, r in zip(axs, sel):
         tag = f"{float(r['nominal_rate']):g}_h{float(r['cell_m']):g}_c{float(r['courant']):g}"
         d = np.loadtxt(f"{out}/damage_{tag}.csv", delimiter=",", skiprows=1)
         z = d[:, 2]
-        m = z <= z.min() + 1e-9  # mid-plane layer (z = h/2)
+        m = z < float(r["cell_m"])  # first layer above the mid-plane (z ~ h/2)
         sc = a.scatter(d[m, 0] * 1e3, d[m, 1] * 1e3, c=d[m, 3], s=4, cmap="inferno", vmin=0, vmax=0.2)
         a.set_aspect("equal")
         a.set_title(f"damage at failure, eff. rate {float(r['effective_rate']):.0f} 1/s")
