@@ -60,21 +60,23 @@ double sample_flaws(const Params& p, double V, std::uint64_t particle_id,
     for (int k = 0; k < f.bins; ++k) {
       const double sh = e[k], sl = e[k + 1];
       const double lambda = f.density * V * (pareto_cdf(f, sh) - pareto_cdf(f, sl));
-      const std::uint64_t n = rng.poisson(lambda);
+      // Poisson count; for astronomically large means (planetary-scale particles, where a uint64
+      // would overflow) the relative fluctuation ~lambda^-1/2 < 1e-6 is dropped: n = round(lambda).
+      const double n = lambda < 1e12 ? double(rng.poisson(lambda)) : std::floor(lambda + 0.5);
       double sk;
       if (n == 0) {
         sk = 0.5 * (sl + sh);
       } else if (n < 20) {
         double m3 = 0.0;
-        for (std::uint64_t i = 0; i < n; ++i) {
+        for (int i = 0; i < int(n); ++i) {
           const double x = pareto_inverse(f.exponent, sl, sh, rng.uniform());
           m3 += x * x * x;
         }
-        sk = std::cbrt(m3 / double(n));
+        sk = std::cbrt(m3 / n);
       } else {
         const double E3 = pareto_moment(f.exponent, sl, sh, 3);
         const double E6 = pareto_moment(f.exponent, sl, sh, 6);
-        const double sd = std::sqrt(std::max(E6 - E3 * E3, 0.0) / double(n));
+        const double sd = std::sqrt(std::max(E6 - E3 * E3, 0.0) / n);
         double m3 = E3;
         for (int tries = 0; tries < 10; ++tries) {
           const double x = E3 + sd * rng.normal();
@@ -85,7 +87,7 @@ double sample_flaws(const Params& p, double V, std::uint64_t particle_id,
         }
         sk = std::cbrt(m3);
       }
-      omega[off + k] = double(n) / V;
+      omega[off + k] = n / V;
       s[off + k] = sk;
       D0 += omega[off + k] * sk * sk * sk;
     }
