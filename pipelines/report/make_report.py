@@ -620,6 +620,11 @@ def main(argv=None):
     md.append("The paper's abstract gives a 1.21 km impactor but Q = 1.13e8 erg/g needs d_imp/D = 0.0968 (a 2.42 km "
               "impactor on the 25 km target); a 1.21 km diameter gives Q = 1.417e7 erg/g (validation-data.md §4.1, §0).\n")
     md.append(differences(Q, fin, ke, n_part, summary))
+    if q_ratio is not None and 0.0 < 0.5 - 0.5 * (q_ratio - 1) <= 1.0:
+        md.append(f"For this run's Q/Q*_D = {q_ratio:.3g}, the Benz & Asphaug (1999) near-Q* fit suggests "
+                  f"M_LR/M_PB ~ {0.5 - 0.5 * (q_ratio - 1):.2f} (a rough guide, [R]); the paper reports higher disruption "
+                  "thresholds when granular flow and pore collapse are included (M_LR/M_PB = 0.85 against ~0.5 in "
+                  "Michel & Richardson 2013).\n")
 
     # ---- hand-off audit --------------------------------------------------------------------
     md.append("## Hand-off audit (mpm2spheres)\n")
