@@ -5,9 +5,10 @@
 // only z in [0, t/2] is modelled (symmetry grid face at z = 0), so the full-disk load is twice
 // the half-model load. One particle per cell (cell centres inside the disk), uGIMP, MUSL.
 // Loading: two flat platens (elastic steel stiffness, density x1e3 so that their nodal
-// velocities dominate: an effectively prescribed-velocity rigid jaw, sticking contact because
-// mpm-frag bodies share one velocity field) touch the disk at y = +-D/2 and are accelerated by a
-// body force to +-v0 over t_ramp (smooth start, no impact wave). Nominal strain rate
+// velocities dominate, sticking contact because mpm-frag bodies share one velocity field) touch
+// the disk at y = +-D/2; a body force ramps them to +-v0 over t_ramp (no impact wave) and then
+// holds every platen particle at that velocity (relaxation control, time constant platen_tau):
+// velocity-controlled rigid jaws. Nominal strain rate
 // eps_dot = 2 v0 / D. Load F = force carried across the disk's central horizontal band
 // |y| < b (b = 1 mm): F_half = -sum_{disk, |y|<b} sigma_yy V_p / (2b), F = 2 F_half (the section
 // force equals the platen load in quasi-static equilibrium; measuring inside the disk avoids the
@@ -37,6 +38,7 @@ struct Config {
   double h = 0.1e-3;           ///< cell size [m]
   double rate = 100.0;         ///< nominal strain rate 2 v0 / D [1/s]
   double t_ramp = 4e-6;        ///< platen velocity ramp [s]
+  double platen_tau = 2e-7;    ///< platen velocity-control relaxation time [s] (>> dt)
   double courant = 0.3;
   int platen_cells = 4;        ///< platen thickness in cells
   std::uint64_t seed = 1;
@@ -138,12 +140,21 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   mats[1].begin = nd;
   mats[1].end = n;
   Solver s(cfg, grid, std::move(ps), std::move(mats));
-  const double acc = v0 / c.t_ramp;
+  // Velocity-controlled rigid jaws: every platen particle relaxes to the target velocity
+  // (0, -+v(t), 0), v(t) = v0 min(t/t_ramp, 1), with time constant tau (>> dt: stable explicit
+  // relaxation). Without this control the (finite-mass) platens are slowed by the disk's reaction
+  // and even rebound at low rates.
+  const double tau = c.platen_tau;
   s.set_body_force([&](std::size_t b, std::size_t e, double t, const ParticleSet& P, double* a) {
+    const double vt = v0 * std::min(t / c.t_ramp, 1.0);
     for (std::size_t q = b; q < e; ++q) {
-      a[3 * (q - b) + 0] = a[3 * (q - b) + 2] = 0.0;
-      a[3 * (q - b) + 1] = 0.0;
-      if (P.material[q] == 1 && t < c.t_ramp) a[3 * (q - b) + 1] = P.x[3 * q + 1] > 0 ? -acc : acc;
+      double* aq = a + 3 * (q - b);
+      aq[0] = aq[1] = aq[2] = 0.0;
+      if (P.material[q] != 1) continue;
+      const double target = P.x[3 * q + 1] > 0 ? -vt : vt;
+      aq[0] = -P.v[3 * q] / tau;
+      aq[1] = (target - P.v[3 * q + 1]) / tau + (t < c.t_ramp ? (P.x[3 * q + 1] > 0 ? -1 : 1) * v0 / c.t_ramp : 0.0);
+      aq[2] = -P.v[3 * q + 2] / tau;
     }
   });
   Result res;
