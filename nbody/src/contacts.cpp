@@ -10,6 +10,8 @@
 
 namespace ssdem {
 namespace {
+// Below this many items a loop runs serially (thread start-up would dominate).
+constexpr std::size_t kOmpMin = 2048;
 constexpr int kCellBits = 21;
 constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
 inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
@@ -57,7 +59,7 @@ bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
   if (!need) {
     const double lim2 = 0.25 * skin_ * skin_;
     bool far = false;
-#pragma omp parallel for schedule(static) reduction(|| : far)
+#pragma omp parallel for schedule(static) reduction(|| : far) if (n >= kOmpMin)
     for (std::size_t i = 0; i < n; ++i)
       if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) far = true;
     need = far;
@@ -96,7 +98,7 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   const std::size_t csize = (n + nchunk - 1) / nchunk;
   std::vector<std::vector<std::uint32_t>> cj(nchunk);
   std::vector<std::vector<std::uint32_t>> ccount(nchunk);
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (n >= kOmpMin)
   for (std::size_t ch = 0; ch < nchunk; ++ch) {
     const std::size_t b = ch * csize, e = std::min(n, b + csize);
     auto& J = cj[ch];
@@ -291,7 +293,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   T.resize(n);
   std::size_t ncont = 0;
   Worst worst;
-#pragma omp parallel
+#pragma omp parallel if (P >= kOmpMin)
   {
     Worst lw;
     std::size_t lc = 0;
@@ -328,7 +330,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   const std::size_t nw = walls_.size();
   std::size_t nwc = 0;
   Worst wworst;
-#pragma omp parallel
+#pragma omp parallel if (n >= kOmpMin)
   {
     Worst lw;
     std::size_t lc = 0;

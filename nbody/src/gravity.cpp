@@ -26,7 +26,7 @@ void direct_gravity(const Spheres& sp, double G, std::vector<Vec3>& acc, std::ve
   const std::size_t n = sp.size();
   acc.assign(n, Vec3::Zero());
   if (pot) pot->assign(n, 0.0);
-#pragma omp parallel for schedule(dynamic, 64)
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 256)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 a = Vec3::Zero();
     double ph = 0.0;
@@ -210,7 +210,7 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
   const double itheta = 1.0 / p_.theta;
   const std::size_t nl = leaves_.size();
   double tot_cells = 0, tot_parts = 0;
-#pragma omp parallel reduction(+ : tot_cells, tot_parts)
+#pragma omp parallel reduction(+ : tot_cells, tot_parts) if (n >= 1024)
   {
     std::vector<std::uint32_t> stack, cells;
     std::vector<std::uint32_t> ranges;  // start, count pairs

@@ -70,6 +70,11 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
       auto ag = flat(st.ag);
       h5::write_dataset(g, "ag", ag.data(), n, 3, "m/s^2");
     }
+    if (!st.a_prev.empty()) {
+      auto ap = flat(st.a_prev), alp = flat(st.alpha_prev);
+      h5::write_dataset(g, "a_prev", ap.data(), n, 3, "m/s^2");
+      h5::write_dataset(g, "alpha_prev", alp.data(), n, 3, "rad/s^2");
+    }
     h5::Handle hg = h5::create_group(g, "history");
     const std::size_t P = st.history.size();
     std::vector<std::uint64_t> ia(P), ib(P);
@@ -113,6 +118,10 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     st.a = unflat(h5::read_doubles(f, "/ssdem_state/a", -1, 3, path));
     st.alpha = unflat(h5::read_doubles(f, "/ssdem_state/alpha", -1, 3, path));
     if (h5::exists(f, "/ssdem_state/ag")) st.ag = unflat(h5::read_doubles(f, "/ssdem_state/ag", -1, 3, path));
+    if (h5::exists(f, "/ssdem_state/a_prev")) {
+      st.a_prev = unflat(h5::read_doubles(f, "/ssdem_state/a_prev", -1, 3, path));
+      st.alpha_prev = unflat(h5::read_doubles(f, "/ssdem_state/alpha_prev", -1, 3, path));
+    }
     const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
     const long long P = static_cast<long long>(ia.size());
     const auto ib = h5::read_u64(f, "/ssdem_state/history/id_b", P, 1, path);

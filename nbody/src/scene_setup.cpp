@@ -74,6 +74,9 @@ common::Schema ssdem_schema() {
              "contact.normal.kn = 0; 0 = 1.2 x escape speed of the initial body");
   s.add_real("contact.overlap_fraction", 0.01, "1", 0.0, 1.0,
              "allowed overlap / radius for the k_n rule", true);
+  s.add_choice("contact.predictor", std::string("extrapolated"), {"extrapolated", "pkdgrav"},
+               "velocity predictor for the dashpots: extrapolated (v + h/2 (2a_n - a_{n-1}); e_n "
+               "error 1.2e-4 at 50 steps) or pkdgrav (v + h/2 a_n; 1.4e-3)");
   s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin; 0 = 0.1 x max radius");
   s.add_real("contact.max_overlap_fraction", 1.0, "1", 0.0, 10.0,
              "overlap / smaller radius that stops the run with exit code 3", true);
@@ -183,6 +186,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       c.walls.push_back(Plane{e.vec3("point"), e.vec3("normal")});
     }
     c.skin = sc.real("contact.skin");
+    c.extrapolated_predictor = sc.string("contact.predictor") == "extrapolated";
     c.max_overlap_frac = sc.real("contact.max_overlap_fraction");
     if (c.dt <= 0.0) {
       c.dt = shortest_contact_time(p, sp, !c.walls.empty()) / sc.real("time.steps_per_contact");

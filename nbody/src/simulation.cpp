@@ -12,6 +12,8 @@
 
 namespace ssdem {
 namespace {
+// Below this many items a loop runs serially (thread start-up would dominate).
+constexpr std::size_t kOmpMin = 2048;
 double cpu_now() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -40,6 +42,10 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
   step_ = st.step;
   time_ = st.time;
   grav_step_ = st.gravity_step;
+  if (cfg_.extrapolated_predictor && st.a_prev.size() == n) {
+    a_prev_ = std::move(st.a_prev);
+    alpha_prev_ = std::move(st.alpha_prev);
+  }
   if (contacts_) contacts_->import_history(sp_, st.history);
 }
 
@@ -88,10 +94,22 @@ void Simulation::compute_forces(bool initial) {
       vpred_ = sp_.v;
       wpred_ = sp_.w;
     } else {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
       for (std::size_t i = 0; i < n; ++i) {
         vpred_[i] = sp_.v[i] + 0.5 * h * a_[i];
         wpred_[i] = sp_.w[i] + 0.5 * h * alpha_[i];
+      }
+      if (cfg_.extrapolated_predictor && a_prev_.size() == n) {
+        // a_{n+1} ~ 2 a_n - a_{n-1}: v_pred = v_{n+1/2} + (h/2)(2 a_n - a_{n-1})
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+        for (std::size_t i = 0; i < n; ++i) {
+          vpred_[i] += 0.5 * h * (a_[i] - a_prev_[i]);
+          wpred_[i] += 0.5 * h * (alpha_[i] - alpha_prev_[i]);
+        }
+      }
+      if (cfg_.extrapolated_predictor) {
+        a_prev_ = a_;
+        alpha_prev_ = alpha_;
       }
     }
     const double t0 = omp_get_wtime(), c0 = cpu_now();
@@ -107,7 +125,7 @@ void Simulation::compute_forces(bool initial) {
   if (cfg_.self_gravity && initial) compute_gravity(false);
   const Vec3 g = cfg_.uniform_g;
   const bool ct = contacts_ != nullptr;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     Vec3 a = g;
     if (ct) {
@@ -127,7 +145,7 @@ void Simulation::step() {
   const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
   const bool open_kick = sg && step_ % k == 0;
   double t0 = omp_get_wtime(), c0 = cpu_now();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     if (open_kick) sp_.v[i] += hk * ag_[i];
     sp_.v[i] += hh * a_[i];
@@ -143,7 +161,7 @@ void Simulation::step() {
   if (close_kick) compute_gravity(false);
   t0 = omp_get_wtime();
   c0 = cpu_now();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
@@ -158,7 +176,7 @@ void Simulation::step() {
 void Simulation::check_state() {
   const std::size_t n = sp_.size();
   bool bad = false;
-#pragma omp parallel for schedule(static) reduction(|| : bad)
+#pragma omp parallel for schedule(static) reduction(|| : bad) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i)
     if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() ||
         !sp_.w[i].allFinite() || !ag_[i].allFinite())
@@ -224,6 +242,8 @@ SimState Simulation::state() const {
   s.step = step_;
   s.time = time_;
   s.gravity_step = grav_step_;
+  s.a_prev = a_prev_;
+  s.alpha_prev = alpha_prev_;
   if (contacts_) s.history = contacts_->export_history(sp_);
   return s;
 }
@@ -233,6 +253,7 @@ double Simulation::bytes_per_sphere() const {
   double b = Spheres::bytes_per_sphere() + 2 * 24;  // spheres + a, alpha
   if (cfg_.self_gravity) b += 24;
   if (contacts_) b += 4 * 24 + contacts_->bytes_per_sphere(n);  // vpred, wpred, F, T
+  if (contacts_ && cfg_.extrapolated_predictor) b += 2 * 24;     // a_prev, alpha_prev
   if (tree_) b += tree_->bytes_per_sphere(n);
   return b;
 }

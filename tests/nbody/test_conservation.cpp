@@ -113,14 +113,16 @@ TEST(Conservation, FrictionalPileMomentaToRoundOffAndEnergyNeverCreated) {
 }
 
 TEST(Determinism, ResultsIndependentOfThreadCount) {
-  const Spheres sp = pile();
+  // > 2048 spheres so that every loop really runs in parallel (smaller loops run serially)
+  const Spheres sp = pile(0.3, 1.6);
+  ASSERT_GT(sp.size(), 2048u);
   SimConfig c = pile_config(kPartDamping | kPartTangential | kPartRolling | kPartTwisting, true, 3);
   c.walls.push_back(Plane{Vec3(0, 0, -0.6), Vec3::UnitZ()});
   auto run = [&](int threads) {
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
     Simulation sim(sp, c);
-    sim.run(300);
+    sim.run(150);
     omp_set_num_threads(old);
     return sim.state();
   };
@@ -175,6 +177,8 @@ TEST(Restart, HistoryKeyedByIdsSurvivesReordering) {
     rv.a[i] = st.a[j];
     rv.alpha[i] = st.alpha[j];
     rv.ag[i] = st.ag[j];
+    rv.a_prev[i] = st.a_prev[j];
+    rv.alpha_prev[i] = st.alpha_prev[j];
   }
   Simulation second(rv, c);
   second.run(150);

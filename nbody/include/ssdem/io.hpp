@@ -4,7 +4,8 @@
 /// Snapshots are `ssdem.spheres` files (common::write_sphere_set, XDMF sidecar) with the carried
 /// per-sphere fields (e.g. damage from mpm2spheres). Checkpoints are the same format plus a group
 ///   /ssdem_state  attrs: step, time [s], gravity_step, dt [s], gravity_every, kn [N/m]
-///                 a (N x 3, m/s^2), alpha (N x 3, rad/s^2), ag (N x 3, m/s^2; self-gravity only)
+///                 a (N x 3, m/s^2), alpha (N x 3, rad/s^2), ag (N x 3, m/s^2; self-gravity only),
+///                 a_prev, alpha_prev (N x 3; previous step, for the extrapolated predictor)
 ///                 history/{id_a, id_b (uint64 P), S (P x 3, m), n_old (P x 3, 1),
 ///                          theta_r (P x 3, rad), theta_q (P, rad)}
 /// written through the common::H5Hook extra-group mechanism. Wall contacts have
