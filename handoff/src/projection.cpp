@@ -20,21 +20,37 @@ struct CoarseGrid {
   std::int64_t key(const Eigen::Vector3i& c) const { return c[0] + std::int64_t(shape[0]) * (c[1] + std::int64_t(shape[1]) * c[2]); }
 };
 
-/// Call f(node_linear_index, weight) for every stencil node with non-zero weight (no gradients:
-/// the hand-off needs weights only).
+/// The weights of one particle's stencil (mpm-frag's axis weights without the gradients),
+/// kept between P2G and G2P so that each particle's stencil is evaluated once.
+struct WeightStencil {
+  std::int32_t first[3];
+  std::int32_t n;  // nodes per axis (same on every axis)
+  double w[3][3];  // w[axis][node]
+};
+
+inline WeightStencil weight_stencil(const mpmfrag::ParticleStencil& st) {
+  WeightStencil ws;
+  ws.n = st.axis[0].n;
+  for (int d = 0; d < 3; ++d) {
+    ws.first[d] = st.axis[d].first;
+    for (int k = 0; k < 3; ++k) ws.w[d][k] = st.axis[d].w[k];
+  }
+  return ws;
+}
+
+/// Call f(node_linear_index, weight) for every stencil node with non-zero weight.
 template <class F>
-inline void for_each_weight(const mpmfrag::ParticleStencil& st, const common::GridInfo& g, F&& f) {
-  const auto &X = st.axis[0], &Y = st.axis[1], &Z = st.axis[2];
-  const std::size_t sx = 1, sy = static_cast<std::size_t>(g.shape[0]), sz = sy * static_cast<std::size_t>(g.shape[1]);
-  for (int c = 0; c < Z.n; ++c) {
-    if (Z.w[c] == 0.0) continue;
-    const std::size_t zbase = (Z.first + c) * sz;
-    for (int b = 0; b < Y.n; ++b) {
-      const double wyz = Y.w[b] * Z.w[c];
+inline void for_each_weight(const WeightStencil& st, const common::GridInfo& g, F&& f) {
+  const std::size_t sy = static_cast<std::size_t>(g.shape[0]), sz = sy * static_cast<std::size_t>(g.shape[1]);
+  for (int c = 0; c < st.n; ++c) {
+    if (st.w[2][c] == 0.0) continue;
+    const std::size_t zbase = (st.first[2] + c) * sz;
+    for (int b = 0; b < st.n; ++b) {
+      const double wyz = st.w[1][b] * st.w[2][c];
       if (wyz == 0.0) continue;
-      const std::size_t base = zbase + (Y.first + b) * sy + X.first * sx;
-      for (int a = 0; a < X.n; ++a)
-        if (X.w[a] != 0.0) f(base + a, X.w[a] * wyz);
+      const std::size_t base = zbase + (st.first[1] + b) * sy + st.first[0];
+      for (int a = 0; a < st.n; ++a)
+        if (st.w[0][a] != 0.0) f(base + a, st.w[0][a] * wyz);
     }
   }
 }
@@ -117,6 +133,7 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   //    touch the same node; sums run in sorted order, so results do not depend on threads.
   const std::size_t nn = mpmfrag::node_count(g);
   std::vector<double> node(4 * nn, 0.0);  // m, px, py, pz
+  std::vector<WeightStencil> stencil(n);  // by sorted position
   const int layers_per_slab = (3 + k - 1) / k;
   const std::int64_t layer_cells = std::int64_t(cg.shape[0]) * cg.shape[1];
   const int nslab = (cg.shape[2] + layers_per_slab - 1) / layers_per_slab;
@@ -135,8 +152,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
         const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
         const double m = s.mass[p];
         const double* v = &s.velocity[3 * p];
-        const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
-        for_each_weight(st, g, [&](std::size_t ni, double w) {
+        stencil[q] = weight_stencil(mpmfrag::compute_stencil(opt.shape, g, x, lp));
+        for_each_weight(stencil[q], g, [&](std::size_t ni, double w) {
           double* nd = &node[4 * ni];
           const double mw = m * w;
           nd[0] += mw;
@@ -187,11 +204,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
     std::vector<double> fsum(carry.size(), 0.0);
     for (std::size_t q = start[c]; q < start[c + 1]; ++q) {
       const std::size_t p = order[q];
-      const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
-      const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
-      const auto st = mpmfrag::compute_stencil(opt.shape, g, x, lp);
       double vt[3] = {0, 0, 0};
-      for_each_weight(st, g, [&](std::size_t ni, double w) {
+      for_each_weight(stencil[q], g, [&](std::size_t ni, double w) {
         const double* nd = &node[4 * ni];
         vt[0] += w * nd[1];
         vt[1] += w * nd[2];

@@ -36,7 +36,6 @@ R_T   := $(call impact_calc,$(TARGET_DIAMETER)/2)
 R_I   := $(call impact_calc,$(IMPACTOR_DIAMETER)/2)
 Z_I   := $(call impact_calc,$(TARGET_DIAMETER)/2 + $(IMPACTOR_DIAMETER)/2)
 HALF  := $(call impact_calc,(int($(DOMAIN_FACTOR)*$(TARGET_DIAMETER)/2/$(CELL)) + 0.5)*$(CELL))
-M_IMP := $(call impact_calc,$(DENSITY)*4/3*3.141592653589793*($(IMPACTOR_DIAMETER)/2)^3)
 
 define FRAGMENT_SETS
 --set grid.cell_size=$(CELL) \
@@ -58,9 +57,15 @@ impact: $(RUN)/report.md ## the full chain with the current variables
 impact-paper: ## the published resolution: 200 m cells, 30 s MPM, 4.5 h N-body (cluster-sized, see README)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=200 COARSEN=1
 
-demo: build ## small impact end to end in minutes on 2 cores (1 km cells, 2 km spheres)
-	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=1000 COARSEN=2 RUN=$(RUNS)/demo \
-	  MPM_SETS="--set body[1].ppc=2"
+# Demo: 1 km MPM cells (8 particles across the impactor, ~8200 in all), 10 s of MPM (the
+# impactor's rebounding fragments leave an 80 km grid at ~12 s), 3 km spheres, 1 h of
+# reaccumulation with dt set so that the lightest pair (a lone impactor particle against a full
+# sphere) gets 4 steps per contact and a full pair ~40. The paper: 200 m, 30 s, 100 m spheres, 4.5 h.
+demo: tools ## small impact end to end in minutes on 2 cores (1 km cells, 3 km spheres, 1 h N-body)
+	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=1000 COARSEN=3 RUN=$(RUNS)/demo \
+	  MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
+	  MPM_SETS="--set body[1].ppc=2" \
+	  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
 
 $(RUN)/.dir:
 	mkdir -p $(RUN)/timing && touch $@
@@ -89,13 +94,13 @@ impact-reaccumulate: $(RUN)/nbody/done
 # 4. analyse: largest remnant, bound mass, beta, damage profiles over the N-body snapshots.
 $(RUN)/analysis.json: $(RUN)/nbody/done $(BIN_ANALYSE)
 	$(TIMED) analyse $(BIN_ANALYSE) $(RUN)/spheres.h5 $$(ls $(RUN)/nbody/snap_*.h5) \
-	  --mpm $(RUN)/fragment/final.h5 --impactor-mass $(M_IMP) \
-	  --impactor-velocity '[0,0,-$(IMPACT_SPEED)]' -o $(RUN)/analysis
+	  --mpm $(RUN)/fragment/final.h5 --mpm-initial $(RUN)/fragment/frag_000000.h5 \
+	  --set impact.target_radius=$(R_T) -o $(RUN)/analysis
 impact-analyse: $(RUN)/analysis.json
 
 # 5. report: Markdown page with pictures, the paper's numbers beside ours.
 $(RUN)/report.md: $(RUN)/analysis.json $(ROOT)/pipelines/report/make_report.py
-	$(PY) $(ROOT)/pipelines/report/make_report.py $(RUN)
+	$(PY) $(ROOT)/pipelines/report/make_report.py $(RUN) --out $(RUN)
 impact-report: $(RUN)/report.md
 
 impact-print: ## print the stage commands without running them
