@@ -122,7 +122,7 @@ TEST(Determinism, ResultsIndependentOfThreadCount) {
     const int old = omp_get_max_threads();
     omp_set_num_threads(threads);
     Simulation sim(sp, c);
-    sim.run(150);
+    sim.run(60);
     omp_set_num_threads(old);
     return sim.state();
   };
