@@ -2,6 +2,7 @@
 // projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s.
 #include <benchmark/benchmark.h>
 #include <omp.h>
+#include <sys/resource.h>
 
 #include "handoff/run_handoff.hpp"
 #include "particle_sets.hpp"
@@ -24,6 +25,9 @@ static void BM_HandOff(benchmark::State& state) {
   state.counters["particles_per_s_per_core"] =
       benchmark::Counter(static_cast<double>(s.count()) / threads, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["threads"] = threads;
+  rusage ru{};
+  getrusage(RUSAGE_SELF, &ru);
+  state.counters["peak_rss_MB"] = ru.ru_maxrss / 1024.0;  // whole process, input arrays included
 }
 BENCHMARK(BM_HandOff)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_MAIN();
