@@ -8,6 +8,8 @@
 #include <omp.h>
 
 #include "brazilian.hpp"
+#include "mpm/materials/tillotson.hpp"
+#include "mpm/tonge_ramesh/moduli.hpp"
 
 TEST(SolverDamage, ReducedBrazilianDiskThreadIndependentAndFailsAlongDiameter) {
   brazilian::Config c;
@@ -51,4 +53,18 @@ TEST(SolverDamage, ReducedBrazilianDiskThreadIndependentAndFailsAlongDiameter) {
   ASSERT_GT(ns, 0);
   EXPECT_GT(band / nb, 0.1);   // the loaded diameter is broken (D_c = 0.125)...
   EXPECT_LT(side / ns, 0.03);  // ...the flanks are not
+}
+
+// The model's local cold Tillotson branch (with the exact tangent its return mapping needs) must
+// agree with the solver's full Tillotson EOS wherever that branch applies (rho >= rho0 or
+// e <= E_iv), so there is one EOS physics in the code base.
+TEST(SolverDamage, LocalColdTillotsonMatchesSolverEos) {
+  const auto p = mpmfrag::tonge_ramesh::basalt_el_mir();
+  const mpmfrag::TillotsonParams t;
+  const double pts[][2] = {{0.8, 0.0}, {0.9, 1e6}, {0.95, 4e6}, {1.0, 0.0}, {1.2, 1e6}, {1.5, 5e6}, {2.0, 5e7}};
+  for (const auto& q : pts) {
+    const double mine = mpmfrag::tonge_ramesh::tillotson_pressure(p.eos, p.rho0, q[0], q[1]);
+    const double theirs = mpmfrag::tillotson_pressure(t, q[0] * t.rho0, q[1]);
+    EXPECT_NEAR(mine, theirs, 1e-9 * std::max(std::abs(theirs), 1e6)) << q[0] << " " << q[1];
+  }
 }

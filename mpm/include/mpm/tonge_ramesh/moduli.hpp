@@ -17,8 +17,11 @@
 ///   eta = rho_s/rho0, mu = eta-1, w = e/(E0 eta^2)+1,
 ///   p_T = (a + b/w) rho_s e + A mu + B mu^2,
 ///   K_T = eta dp_T/deta = (a+b/w) rho_s e + 2 b rho_s e^2/(E0 eta^2 w^2) + eta(A + 2 B mu).
-/// This is a local copy of the one Tillotson branch the model needs, so the point-wise model is
-/// independent of the solver; the hot/hybrid branches are not needed for the brittle response.
+/// The full Tillotson EOS of the solver is mpm/materials/tillotson.hpp; the model keeps this inline
+/// cold branch because its return mappings need the exact tangent at fixed e and the point-wise
+/// model must build without the solver. The ctest SolverDamage.LocalColdTillotsonMatchesSolverEos
+/// checks that both agree (1e-9) wherever this branch applies; the hot/hybrid branches are not
+/// used by the brittle model (a documented limitation for shock-heated, expanded states).
 #pragma once
 #include "mpm/tonge_ramesh/params.hpp"
 
