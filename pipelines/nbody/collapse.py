@@ -22,6 +22,7 @@ Rc = 2.0 * s * (N / 0.3) ** (1 / 3)  # cloud filling 30 % -> ~2x the packed radi
 G = 6.674e-11
 M = N * rho * 4 / 3 * np.pi * s**3
 tff = np.sqrt(3 * np.pi / (32 * G * M / (4 / 3 * np.pi * Rc**3)))
+os.makedirs(OUT, exist_ok=True)
 scene = os.path.join(OUT, "collapse.toml")
 with open(scene, "w") as f:
     f.write(f"""
