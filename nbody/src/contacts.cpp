@@ -309,8 +309,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       PairResult res;
       const double mu = sp.m[i] * sp.m[j] / (sp.m[i] + sp.m[j]);
       const bool c = contact_pair<PARTS, false>(coeffs_, sp.x[j] - sp.x[i], sp.s[i], sp.s[j], mu,
-                                                vpred[i], vpred[j], wpred[i], wpred[j], sp.w[i],
-                                                sp.w[j], h, act, hr, res);
+                                                vpred[i], vpred[j], wpred[i], wpred[j], sp.v[i],
+                                                sp.v[j], sp.w[i], sp.w[j], h, act, hr, res);
       active_[p] = act ? 1 : 0;
       if (c) {
         pF_[p] = res.F;
@@ -368,7 +368,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         PairResult res;
         static const Vec3 zero = Vec3::Zero();
         contact_pair<PARTS, true>(coeffs_, -dist * pl.normal, sp.s[k], 0.0, sp.m[k], vpred[k],
-                                  zero, wpred[k], zero, sp.w[k], zero, h, act, hr, res);
+                                  zero, wpred[k], zero, sp.v[k], zero, sp.w[k], zero, h, act, hr,
+                                  res);
         wactive_[s] = act ? 1 : 0;
         f += res.F;
         t += res.Tp;

@@ -280,7 +280,8 @@ TEST(ContactObjectivity, HistoryFollowsARigidRotation) {
     hr.theta_r = &thr;
     PairResult res;
     contact_pair<kPartTangential | kPartRolling, false>(c, xn - xp, s, s, 1.0, Om.cross(xp),
-                                                        Om.cross(xn), Om, Om, Om, Om, h, active,
+                                                        Om.cross(xn), Om, Om, Om.cross(xp),
+                                                        Om.cross(xn), Om, Om, h, active,
                                                         hr, res);
   }
   const Eigen::AngleAxisd R(Om.norm() * h * steps, axis);

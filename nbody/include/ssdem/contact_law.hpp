@@ -20,8 +20,13 @@
 ///   |k_q theta_q| <= mu_t mu_s a |F_N|                                           (Z17; DoDEM)
 ///   force on p: F_N + F_T (n gets -F); torque on p: l_p n x F_T + M_roll + M_tw;
 ///   torque on n: l_n n x F_T - M_roll - M_tw                                     (S12 eqs 22-23)
-/// Velocities and spins entering u, v_roll and the dashpots are the *predicted* ones
-/// (v_{n+1/2} + (h/2) a_n), as in pkdgrav; the transport rotation uses the half-step spins.
+/// Velocities and spins entering the dashpots (and the Coulomb test) are the *predicted* ones at
+/// t_{n+1}, as in pkdgrav. The history increments S += u_t h, theta_r += v_roll h and
+/// theta_q += (dw.n) h use the half-step (drift) velocities and spins v_{n+1/2}, w_{n+1/2}, so that
+/// they are the midpoint rule for int u dt over [t_n, t_{n+1}], like the positions that give the
+/// overlap (deviation from pkdgrav, which increments with the predicted u: that puts the springs
+/// h/2 ahead of the motion and makes the tangential response first order in h; measured in
+/// test_nbody_contact_oblique). The transport rotation uses the half-step spins.
 /// A plane wall is the limit s_n -> infinity with zero wall velocity: l_p = distance from the
 /// centre to the plane, Rbar = s_p, the lever-arm correction in v_roll becomes 1/(2 l_p), and
 /// the wall takes no torque. (Deviation: pkdgrav's wall law differs in details that are not
@@ -68,12 +73,14 @@ struct PairResult {
 /// Evaluate one contact. `active` is the history flag (true if the pair was in contact at the
 /// previous step); on return it says whether it is in contact now. Returns false (and zero
 /// history) when there is no overlap. For WALL, x_n is the foot of the perpendicular from x_p
-/// onto the plane, s_n = 0, v_n = w_n = 0 and mu = m_p.
+/// onto the plane, s_n = 0, v_n = w_n = 0 and mu = m_p. v/w are the predicted velocities and
+/// spins at t_{n+1}; v_half/w_half the half-step ones (history increments, transport).
 template <unsigned PARTS, bool WALL>
 inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, double sn,
                          double mu, const Vec3& vp, const Vec3& vn, const Vec3& wp,
-                         const Vec3& wn, const Vec3& wp_half, const Vec3& wn_half, double h,
-                         bool& active, PairHistoryRef hist, PairResult& out) {
+                         const Vec3& wn, const Vec3& vp_half, const Vec3& vn_half,
+                         const Vec3& wp_half, const Vec3& wn_half, double h, bool& active,
+                         PairHistoryRef hist, PairResult& out) {
   constexpr bool DAMP = PARTS & kPartDamping;
   constexpr bool TANG = PARTS & kPartTangential;
   constexpr bool ROLL = PARTS & kPartRolling;
@@ -104,6 +111,16 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
   else
     u = vn - vp - ln * wn.cross(n) - lp * wp.cross(n);
   const double un_s = u.dot(n);
+  // Contact-point relative velocity at the half step: drives the history increments.
+  Vec3 uh = Vec3::Zero();
+  if constexpr (HIST) {
+    if constexpr (WALL)
+      uh = -vp_half - lp * wp_half.cross(n);
+    else
+      uh = vn_half - vp_half - ln * wn_half.cross(n) - lp * wp_half.cross(n);
+  }
+  (void)vp_half;
+  (void)vn_half;
   Vec3 FN = (-c.kn * x) * n;
   double cn = 0.0;
   if constexpr (DAMP) {
@@ -150,14 +167,13 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
       }
       hist.n_old[0] = n;
     }
-    (void)wn_half;
   }
   active = true;
 
   if constexpr (TANG) {
     const Vec3 ut = u - un_s * n;
     Vec3& S = hist.S[0];
-    S += ut * h;
+    S += (uh - uh.dot(n) * n) * h;
     double ct = 0.0;
     if constexpr (DAMP) ct = c.ct_pre * std::sqrt(mu);
     Vec3 FT = c.kt * S + ct * ut;
@@ -180,12 +196,15 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
   }
   if constexpr (ROLL || TWIST) {
     const double a = c.beta * Rbar;
-    Vec3 dw;
-    if constexpr (WALL)
+    Vec3 dw, dwh;
+    if constexpr (WALL) {
       dw = -wp;
-    else
+      dwh = -wp_half;
+    } else {
       dw = wn - wp;
-    const double dwn = dw.dot(n);
+      dwh = wn_half - wp_half;
+    }
+    const double dwn = dw.dot(n), dwhn = dwh.dot(n);
     if constexpr (ROLL) {
       double corr;
       if constexpr (WALL)
@@ -193,8 +212,9 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
       else
         corr = (ln - lp) / (2.0 * lp * ln);
       const Vec3 vroll = dw - dwn * n + corr * n.cross(u);
+      const Vec3 vroll_h = dwh - dwhn * n + corr * n.cross(uh);
       Vec3& th = hist.theta_r[0];
-      th += vroll * h;
+      th += vroll_h * h;
       const double kr = c.kn * a * a;
       const Vec3 spring = kr * th;
       const double crit = c.mu_r * a * FNmag;
@@ -202,7 +222,7 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
       const double sp2 = spring.squaredNorm();
       if (sp2 > crit * crit) {
         M = spring * (crit / std::sqrt(sp2));
-        th -= vroll * h;
+        th -= vroll_h * h;
       } else {
         M = spring;
         if constexpr (DAMP) M += (cn * a * a) * vroll;
@@ -212,13 +232,13 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
     }
     if constexpr (TWIST) {
       double& q = hist.theta_q[0];
-      q += dwn * h;
+      q += dwhn * h;
       const double kq = 2.0 * c.kt * a * a;
       const double crit = c.mu_t * c.mu_s * a * FNmag;
       double Mq = kq * q;
       if (std::fabs(Mq) > crit) {
         Mq = std::copysign(crit, Mq);
-        q -= dwn * h;
+        q -= dwhn * h;
       } else if constexpr (DAMP) {
         Mq += 2.0 * c.ct_pre * std::sqrt(mu) * a * a * dwn;
       }
