@@ -1,12 +1,16 @@
 // ssdem-grav end to end: restart from a checkpoint is bit-identical to an uninterrupted run
-// (also after SIGTERM), exit codes 2 (unresolvable dt) and 3 (runaway overlap, state saved),
-// per-sphere fields (damage) carried from the input file to snapshots, scene-driven physics
-// selection (no tree / no neighbour list when not needed).
+// (also after a SIGTERM that always lands mid-run), exit codes 2 (unresolvable dt) and 3
+// (runaway overlap, state saved), per-sphere fields (damage) carried from the input file to
+// snapshots, scene-driven physics selection (no tree / no neighbour list when not needed).
 #include <gtest/gtest.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -99,43 +103,73 @@ TEST(App, RestartFromCheckpointIsBitIdentical) {
 }
 
 TEST(App, SigtermWritesCheckpointAndRestartMatches) {
+  // The child runs to t = 1e7 s (~6e7 steps, hours), so the signal always lands mid-run: exit 0
+  // is a failure. It is signalled once its series has 10 rows after t = 0 (step >= 300: contacts
+  // with history exist): the progress marker is the row count of series.csv or, where the run
+  // keeps its rows in series.csv.partial until it stops, of that file. The uninterrupted
+  // reference and the restart then both run to the checkpoint's time + 30 s (~200 more steps)
+  // and must agree bit for bit.
   const std::string d = tmpdir("sigterm");
   const std::string scene = write_scene(d);
-  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/full\\\" --set time.end=150.0"), 0);
   const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
   if (pid == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlive the test (the run would take hours)
     setenv("OMP_NUM_THREADS", "1", 1);
+    if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
+      _exit(98);
     const std::string od = "output.dir=\"" + d + "/part\"";
     execl(kExe.c_str(), kExe.c_str(), "--quiet", "--scene", scene.c_str(), "--set", od.c_str(),
-          "--set", "time.end=150.0", static_cast<char*>(nullptr));
+          "--set", "time.end=1e7", static_cast<char*>(nullptr));
     _exit(99);
   }
-  // wait until the run is under way, then interrupt it
   auto rows = [&]() {
-    std::ifstream f(d + "/part/series.csv");
-    std::string l;
-    int n = 0;
-    while (std::getline(f, l)) ++n;
-    return n;
+    int best = 0;
+    for (const char* name : {"/part/series.csv", "/part/series.csv.partial"}) {
+      std::ifstream f(d + name);
+      std::string l;
+      int n = 0;
+      while (std::getline(f, l)) ++n;
+      best = std::max(best, n);
+    }
+    return best;
   };
-  for (int i = 0; i < 2000 && rows() < 6; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  kill(pid, SIGTERM);
+  const auto t0 = std::chrono::steady_clock::now();
+  bool marker = false;
   int status = 0;
+  while (!marker && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(20)) {
+    marker = rows() >= 12;  // header + t = 0 + 10 rows
+    if (!marker) {
+      if (waitpid(pid, &status, WNOHANG) == pid) FAIL() << "the run ended before it was signalled";
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+  }
+  if (!marker) {
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    FAIL() << "no progress marker (10 series rows) within 20 s";
+  }
+  kill(pid, SIGTERM);
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
-  const int rc = WEXITSTATUS(status);
-  if (rc == 0) GTEST_SKIP() << "run finished before the signal arrived";
-  ASSERT_EQ(rc, 128 + SIGTERM);
+  ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << "the signal must land mid-run";
   ASSERT_TRUE(fs::exists(d + "/part/checkpoint.h5"));
-  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --set time.end=150.0 --restart " +
-                    d + "/part/checkpoint.h5"),
-            0);
-  const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
-  ASSERT_EQ(a.step, b.step);
-  ASSERT_EQ(a.position, b.position);
-  ASSERT_EQ(a.spin, b.spin);
   const SimState st = read_checkpoint(d + "/part/checkpoint.h5");
+  EXPECT_GE(st.step, 300);
   EXPECT_GT(st.history.size(), st.sp.size());  // contact history really was carried
+  char tend[64];
+  std::snprintf(tend, sizeof tend, "%.17g", st.time + 30.0);
+  const std::string args = "--scene " + scene + " --set time.end=" + tend + " --set output.dir=";
+  ASSERT_EQ(run_cmd(args + "\\\"" + d + "/full\\\""), 0);
+  ASSERT_EQ(run_cmd(args + "\\\"" + d + "/part\\\" --restart " + d + "/part/checkpoint.h5"), 0);
+  const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
+  std::printf("SIGTERM at step %lld (t = %.1f s), both runs end at step %lld\n",
+              static_cast<long long>(st.step), st.time, static_cast<long long>(a.step));
+  ASSERT_EQ(a.step, b.step);
+  ASSERT_GT(a.step, st.step + 100);
+  ASSERT_EQ(a.position, b.position);
+  ASSERT_EQ(a.velocity, b.velocity);
+  ASSERT_EQ(a.spin, b.spin);
   fs::remove_all(d);
 }
 
