@@ -40,7 +40,7 @@ void write_any(hid_t loc, const std::string& name, const T* data, std::size_t ro
   write_attr(ds, "unit", unit);
 }
 
-enum class Kind { real, integer };
+enum class Kind { real, integer, uint64 };
 
 template <class T>
 std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std::size_t cols,
@@ -54,6 +54,10 @@ std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std:
     throw InputError(file, name, "wrong dtype: expected float64");
   if (kind == Kind::integer && cls != H5T_INTEGER)
     throw InputError(file, name, "wrong dtype: expected an integer type");
+  // Ids are uint64 in the contract; a signed or narrower type would be converted silently
+  // (negative ids clipped to 0, i.e. duplicated), so it is refused.
+  if (kind == Kind::uint64 && !(cls == H5T_INTEGER && H5Tget_sign(type) == H5T_SGN_NONE && H5Tget_size(type) == 8))
+    throw InputError(file, name, "wrong dtype: expected uint64");
   Handle space(H5Dget_space(ds));
   const int nd = H5Sget_simple_extent_ndims(space);
   std::vector<hsize_t> d(nd > 0 ? nd : 0);
@@ -265,7 +269,7 @@ std::vector<double> read_doubles(hid_t loc, const std::string& name, long long r
 }
 std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows,
                                     std::size_t cols, const std::string& file) {
-  return read_any<std::uint64_t>(loc, name, rows, cols, file, H5T_NATIVE_UINT64, Kind::integer);
+  return read_any<std::uint64_t>(loc, name, rows, cols, file, H5T_NATIVE_UINT64, Kind::uint64);
 }
 std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows,
                                    std::size_t cols, const std::string& file) {

@@ -68,6 +68,7 @@ void write_dataset(hid_t loc, const std::string& name, const std::int64_t* data,
 /// row count, or -1 to accept any. Throws InputError "file: /path: ..." on mismatch.
 std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows,
                                  std::size_t cols, const std::string& file);
+/// read_u64 accepts only a uint64 dataset (ids); read_i32/read_i64 any integer type.
 std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows,
                                     std::size_t cols, const std::string& file);
 std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows,
