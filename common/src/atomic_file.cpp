@@ -62,4 +62,30 @@ void write_text_atomic(const std::string& path, const std::string& text) {
   out.commit();
 }
 
+PartialFile::PartialFile(std::string final_path)
+    : final_(std::move(final_path)), partial_(partial_name(final_)) {
+  const auto dir = std::filesystem::path(final_).parent_path();
+  if (!dir.empty() && !std::filesystem::is_directory(dir))
+    throw IoError(final_ + ": output directory '" + dir.string() + "' does not exist");
+  out_.open(partial_, std::ios::out | std::ios::trunc);
+  if (!out_) throw IoError(partial_ + ": cannot create: " + std::strerror(errno));
+}
+
+void PartialFile::flush() {
+  if (committed_) throw IoError(final_ + ": write after the series was committed");
+  out_.flush();
+  if (!out_) throw IoError(partial_ + ": write failed (disk full?)");
+}
+
+void PartialFile::commit() {
+  if (committed_) return;
+  flush();
+  out_.close();
+  if (!out_) throw IoError(partial_ + ": close failed (disk full?)");
+  fsync_path(partial_);
+  if (std::rename(partial_.c_str(), final_.c_str()) != 0)
+    throw IoError(final_ + ": cannot rename " + partial_ + " into place: " + std::strerror(errno));
+  committed_ = true;
+}
+
 }  // namespace common

@@ -49,18 +49,17 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
   return s;
 }
 
-SeriesWriter::SeriesWriter(const std::string& path) : out_(path, std::ios::trunc), path_(path) {
-  if (!out_) throw common::IoError("cannot open time series '" + path + "' for writing");
-  out_ << "step,time_s,dt_s,mass_kg,px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,"
-          "kinetic_J,internal_J,total_J\n";
+SeriesWriter::SeriesWriter(const std::string& path) : file_(path) {
+  file_.stream() << "step,time_s,dt_s,mass_kg,px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,"
+                    "kinetic_J,internal_J,total_J\n";
 }
 
 void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d) {
-  out_ << step << std::setprecision(12) << ',' << t << ',' << dt << ',' << d.mass << ',' << d.momentum[0] << ','
-       << d.momentum[1] << ',' << d.momentum[2] << ',' << d.angular_momentum[0] << ',' << d.angular_momentum[1]
-       << ',' << d.angular_momentum[2] << ',' << d.kinetic << ',' << d.internal << ',' << d.total() << '\n';
-  out_.flush();
-  if (!out_) throw common::IoError("write to '" + path_ + "' failed");
+  std::ostream& out = file_.stream();
+  out << step << std::setprecision(12) << ',' << t << ',' << dt << ',' << d.mass << ',' << d.momentum[0] << ','
+      << d.momentum[1] << ',' << d.momentum[2] << ',' << d.angular_momentum[0] << ',' << d.angular_momentum[1]
+      << ',' << d.angular_momentum[2] << ',' << d.kinetic << ',' << d.internal << ',' << d.total() << '\n';
+  file_.flush();
 }
 
 }  // namespace mpmfrag

@@ -99,6 +99,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
         path = write_snap(b.particles, b.materials, b.time, b.step, "failed_");
       }
       series.write(solver.step_count(), solver.time(), dt, solver.diagnostics());
+      series.commit();  // the series up to the failure replaces an earlier one
       spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
       throw common::NumericalError(std::string(f.what()), path);
     }
@@ -118,6 +119,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   }
   sum.final = solver.diagnostics();
   sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+  series.commit();
   sum.steps = solver.step_count();
   sum.time = solver.time();
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -3,6 +3,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cmath>
@@ -32,23 +33,28 @@ const char* kSeriesHeader =
     "px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,contacts,wall_contacts,"
     "max_overlap_frac,wall_s";
 
-// Keep the rows of an existing series file up to and including `step` (restart).
-void truncate_series(const std::string& path, std::int64_t step) {
+std::vector<std::string> read_lines(const std::string& path) {
+  std::vector<std::string> lines;
   std::ifstream in(path);
-  if (!in) return;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  return lines;
+}
+
+// The series a restart continues: the rows up to and including `step` of the run the
+// checkpoint came from. That run's rows are in `<series>.partial` if it never committed them
+// (killed, I/O failure) and the partial file reaches the checkpoint, else in the series itself.
+std::string series_to_continue(const std::string& path, std::int64_t step) {
+  std::vector<std::string> lines = read_lines(common::PartialFile::partial_name(path));
+  if (lines.size() < 2 || std::atoll(lines.back().c_str()) < step) lines = read_lines(path);
+  const std::string header(kSeriesHeader);
+  const auto columns = std::count(header.begin(), header.end(), ',');
   std::ostringstream keep;
-  std::string line;
-  bool first = true;
-  while (std::getline(in, line)) {
-    if (first) {
-      keep << line << '\n';
-      first = false;
-      continue;
-    }
-    const long long s = std::atoll(line.c_str());
-    if (s <= step) keep << line << '\n';
+  keep << header << '\n';
+  for (std::size_t i = 1; i < lines.size(); ++i) {
+    const std::string& l = lines[i];  // a row cut short by a crash has fewer columns: dropped
+    if (std::count(l.begin(), l.end(), ',') == columns && std::atoll(l.c_str()) <= step) keep << l << '\n';
   }
-  common::write_text_atomic(path, keep.str());
+  return keep.str();
 }
 }  // namespace
 
@@ -114,13 +120,15 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   std::int64_t n_end = static_cast<std::int64_t>(std::ceil(t_end / cfg.dt - 1e-9));
   n_end = (n_end + k - 1) / k * k;
 
-  if (restart.empty()) {
-    std::ofstream(series_path) << kSeriesHeader << '\n';
-  } else {
-    truncate_series(series_path, sim->step_count());
-  }
-  std::ofstream series(series_path, std::ios::app);
-  if (!series) throw common::IoError(series_path + ": cannot open for writing");
+  // Rows go to series.csv.partial and are renamed onto series.csv when the run ends, stops on a
+  // numerical failure (after saving its state) or on a signal (after its checkpoint); a run that
+  // fails otherwise leaves an earlier series.csv as it was.
+  const std::string continued = restart.empty() ? std::string(kSeriesHeader) + "\n"
+                                                : series_to_continue(series_path, sim->step_count());
+  common::PartialFile series_file(series_path);
+  std::ostream& series = series_file.stream();
+  series << continued;
+  series_file.flush();
   series.precision(17);
 
   double E0 = NAN;
@@ -134,8 +142,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
            << ',' << d.angular_momentum.x() << ',' << d.angular_momentum.y() << ','
            << d.angular_momentum.z() << ',' << d.contacts << ',' << d.wall_contacts << ','
            << d.max_overlap_frac << ',' << progress.elapsed() << '\n';
-    series.flush();
-    if (!series) throw common::IoError(series_path + ": write failed");
+    series_file.flush();
     const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
   };
@@ -183,6 +190,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       const int sig = g_signal.load();
       if (sig != 0) {
         checkpoint();
+        series_file.commit();
         spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", sig, s, ckpt_path);
         return 128 + sig;
       }
@@ -202,9 +210,11 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       spdlog::error("{}; failing state saved to {}", e.what(), failed);
     }
     e.set_saved_state(failed);
+    series_file.commit();
     throw;
   }
   checkpoint();
+  series_file.commit();
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
   const PhaseTimes& t = sim->times();
   spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, "

@@ -2,6 +2,7 @@
 /// Write-to-temporary-then-rename, so that an interrupted or failed run never leaves a half
 /// file under the final name and never destroys an existing result (ecosystem.md §4.4).
 #pragma once
+#include <fstream>
 #include <string>
 
 namespace common {
@@ -29,5 +30,37 @@ class AtomicPath {
 
 /// Atomically replace `path` with `text`. Throws IoError.
 void write_text_atomic(const std::string& path, const std::string& text);
+
+/// A file that grows during a long run (a time-series CSV). Rows go to `<final>.partial` in the
+/// same directory; commit() renames it onto the final name, so the final name only ever holds
+/// the series of a run that completed or stopped in a controlled way (numerical failure after
+/// saving its state, signal after a checkpoint). A run that never commits (I/O failure, crash)
+/// leaves the earlier `final` untouched and its own rows in the `.partial` file, which the next
+/// run overwrites.
+class PartialFile {
+ public:
+  /// Create (truncate) `<final_path>.partial`. Throws IoError.
+  explicit PartialFile(std::string final_path);
+  PartialFile(const PartialFile&) = delete;
+  PartialFile& operator=(const PartialFile&) = delete;
+
+  static std::string partial_name(const std::string& final_path) { return final_path + ".partial"; }
+  const std::string& final_path() const { return final_; }
+  const std::string& partial_path() const { return partial_; }
+  bool committed() const { return committed_; }
+
+  /// The stream to write rows to (invalid after commit()).
+  std::ostream& stream() { return out_; }
+  /// Flush to the OS; throws IoError if a write has failed.
+  void flush();
+  /// Flush, fsync, close and rename onto the final path. Throws IoError.
+  void commit();
+
+ private:
+  std::string final_;
+  std::string partial_;
+  std::ofstream out_;
+  bool committed_ = false;
+};
 
 }  // namespace common

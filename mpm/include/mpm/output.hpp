@@ -2,9 +2,9 @@
 /// Particle snapshots (common::write_particle_snapshot, the file contract in particle_file.hpp)
 /// and the time-series CSV of mpm-frag.
 #pragma once
-#include <fstream>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "common/particle_file.hpp"
 #include "mpm/solver.hpp"
 
@@ -16,17 +16,20 @@ namespace mpmfrag {
 common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
                                        const common::GridInfo& grid, double time, std::int64_t step);
 
-/// Time series: one CSV row per call.
+/// Time series: one CSV row per call. Rows go to `<path>.partial`; commit() renames it onto
+/// `path` (end of the run, or a numerical failure after the last good state was saved), so a
+/// run that fails otherwise never replaces an earlier series (common::PartialFile).
 class SeriesWriter {
  public:
-  /// Opens (truncates) `path` and writes the header. Throws common::IoError.
+  /// Creates `<path>.partial` and writes the header. Throws common::IoError.
   explicit SeriesWriter(const std::string& path);
   /// Append a row and flush.
   void write(std::int64_t step, double t, double dt, const Diagnostics& d);
+  /// Rename the series into place under `path`. Throws common::IoError.
+  void commit() { file_.commit(); }
 
  private:
-  std::ofstream out_;
-  std::string path_;
+  common::PartialFile file_;
 };
 
 }  // namespace mpmfrag
