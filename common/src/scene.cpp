@@ -268,7 +268,8 @@ void validate(SceneData& d) {
       std::size_t count = 0;
       if (n) {
         toml::array* arr = n->as_array();
-        if (!arr || !arr->is_array_of_tables())
+        // `key = []` (how to_toml() prints an array with no entries) is an empty array of tables
+        if (!arr || (!arr->empty() && !arr->is_array_of_tables()))
           throw InputError(d.source, d.prefix + a.key, "expected an array of tables ([[" + a.key + "]])");
         count = arr->size();
         for (std::size_t i = 0; i < arr->size(); ++i) {
