@@ -106,14 +106,16 @@ with open(os.path.join(OUT, "accuracy.csv"), "w") as f:
     for r in rows:
         f.write(",".join(str(r[k]) for k in keys) + "\n")
 with open(os.path.join(OUT, "accuracy.md"), "w") as f:
-    f.write("| scene | steps/contact | theta | gravity every | leaf | wall s | t_end s | |E-E_ref|/|W0| | rms dx / r |\n")
-    f.write("|---|---|---|---|---|---|---|---|---|\n")
+    f.write("| scene | steps/contact | theta | gravity every | leaf | wall s | t_end s | \\|E-E_ref\\|/\\|W0\\| "
+            "| \\|E_end-E_0\\|/\\|W0\\| | rms dx / r |\n")
+    f.write("|---|---|---|---|---|---|---|---|---|---|\n")
     for r in rows:
         f.write(f"| {r['scene']} | {r['spc']} | {r['theta']} | {r['every']} | {r['bucket']} | {r['wall_s']:.2f} | "
-                f"{r['t_end']:.1f} | {r['dE_vs_ref']:.2e} | {r['dx_rms_over_r']:.2e} |\n")
+                f"{r['t_end']:.1f} | {r['dE_vs_ref']:.2e} | {r['E_change_over_W0']:.2e} | {r['dx_rms_over_r']:.2e} |\n")
     f.write("\nReference: 60 steps/contact, theta 0.2, gravity every step, leaf 16 "
             f"(rubble pile {rows[0]['wall_ref_s']:.1f} s wall). The leaf-8 row is the chaos floor "
-            "(same physics, round-off-level change). Runs end at the first gravity-block boundary "
+            "(same physics, round-off-level change). |E_end-E_0|/|W0| is the run's own energy change "
+            "(dissipation plus drift; E_change_over_W0 in the CSV). Runs end at the first gravity-block boundary "
             "after t_end, so large k ends slightly later.\n")
 
 fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
