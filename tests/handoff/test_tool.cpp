@@ -1,9 +1,15 @@
-// mpm2spheres as a user runs it: exit codes, no partial output, existing results kept.
+// mpm2spheres as a user runs it: exit codes (2 bad input, 3 energy threshold, 4 I/O), no partial
+// output and no audit on failure, existing results kept, material selection audited, --version and
+// --print-scene.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <set>
+#include <tuple>
 
 #include "common/h5.hpp"
 #include "common/sphere_file.hpp"
@@ -23,6 +29,25 @@ int run(const std::string& args) {
   const std::string cmd = std::string(MPM2SPHERES_EXE) + " --quiet " + args + " 2>/dev/null";
   const int rc = std::system(cmd.c_str());
   return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
+}
+
+/// Run without --quiet and return {exit code, stdout + stderr} (captured in a file named after
+/// this process: ctest runs tests in parallel processes).
+std::pair<int, std::string> run_capture(const std::string& args) {
+  const fs::path log = fs::temp_directory_path() / ("m2s_out_" + std::to_string(::getpid()) + ".log");
+  const std::string cmd = std::string(MPM2SPHERES_EXE) + " " + args + " > " + log.string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  std::ifstream f(log);
+  std::string out((std::istreambuf_iterator<char>(f)), {});
+  fs::remove(log);
+  return {WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, out};
+}
+
+std::vector<std::string> entries(const fs::path& dir) {
+  std::vector<std::string> v;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) v.push_back(fs::relative(e.path(), dir).string());
+  std::sort(v.begin(), v.end());
+  return v;
 }
 
 common::Provenance prov() { return {"test", "0", "x", "test", ""}; }
@@ -79,16 +104,25 @@ TEST(Mpm2SpheresTool, BadInputsExitTwoAndWriteNothing) {
   ASSERT_EQ(run("-i " + good + " -o " + d.f("spheres.h5")), 0);
 
   for (const char* bad : {"nogrid.h5", "empty.h5", "outside.h5", "nan.h5", "spheres.h5", "missing.h5"}) {
-    EXPECT_EQ(run("-i " + d.f(bad) + " -o " + d.f("result.h5")), 2) << bad;
-    EXPECT_FALSE(fs::exists(d.f("result.h5"))) << bad;
-    EXPECT_FALSE(fs::exists(d.f("result.xmf"))) << bad;
+    EXPECT_EQ(run("-i " + d.f(bad) + " -o " + d.f("result.h5") + " --ss " + d.f("result.ss")), 2) << bad;
+    for (const char* out : {"result.h5", "result.xmf", "result.audit.json", "result.ss", "result.ss.json"})
+      EXPECT_FALSE(fs::exists(d.f(out))) << bad << ": " << out;
   }
   EXPECT_EQ(run("-i " + good), 2);                                         // output missing
   EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --coarsen 0"), 2);   // out of range
   EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --method magic"), 2);
   EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --set select.min_damage=0.5"), 2);  // no damage field
+  EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --set select.exclude_materials=[0]"), 2);  // drops all
+  EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --set select.exclude_materials=[0.5]"), 2);
   EXPECT_EQ(run("-i " + good + " -o " + d.f("r.h5") + " --set bogus=1"), 2);
   EXPECT_FALSE(fs::exists(d.f("r.h5")));
+  EXPECT_FALSE(fs::exists(d.f("r.audit.json")));
+  // The message names the file and the dataset.
+  const auto [rc, msg] = run_capture("-i " + d.f("nan.h5") + " -o " + d.f("r.h5"));
+  EXPECT_EQ(rc, 2);
+  EXPECT_NE(msg.find(d.f("nan.h5") + ": /particles/velocity: non-finite value (NaN or Inf) at row 2"),
+            std::string::npos)
+      << msg;
 }
 
 TEST(Mpm2SpheresTool, EnergyThresholdExitsThreeAndKeepsExistingResult) {
@@ -102,4 +136,112 @@ TEST(Mpm2SpheresTool, EnergyThresholdExitsThreeAndKeepsExistingResult) {
   EXPECT_EQ(fs::file_size(d.f("out.h5")), size);
   EXPECT_TRUE(fs::exists(d.f("out.audit.json")));          // the audit explains why
   EXPECT_EQ(run("-i " + in + " -o " + d.f("c.h5") + " --method conserving --max-ke-loss 1e-9"), 0);
+}
+
+TEST(Mpm2SpheresTool, ExcludedMaterialsAreDroppedAndAudited) {
+  Dir d;
+  auto s = testsets::uniform(3000, 12, 1.0, 2.5, 9.5, 0.5, 4);
+  for (std::size_t p = 0; p < s.count(); ++p) s.material[p] = static_cast<std::int32_t>(p % 3);
+  common::write_particle_snapshot(d.f("mixed.h5"), s, prov());
+  ASSERT_EQ(run("-i " + d.f("mixed.h5") + " -o " + d.f("out.h5") + " --set select.exclude_materials=[2,1]"), 0);
+
+  // What the selection must drop: materials 1 and 2 (two thirds of the particles).
+  double m_drop = 0, m_keep = 0, scale = 0;
+  Eigen::Vector3d p_drop = Eigen::Vector3d::Zero(), p_keep = Eigen::Vector3d::Zero();
+  std::set<std::uint64_t> kept_ids;
+  for (std::size_t p = 0; p < s.count(); ++p) {
+    const Eigen::Vector3d mv = s.mass[p] * Eigen::Vector3d(&s.velocity[3 * p]);
+    scale += mv.norm();
+    if (s.material[p] == 0) {
+      m_keep += s.mass[p];
+      p_keep += mv;
+      kept_ids.insert(s.id[p]);
+    } else {
+      m_drop += s.mass[p];
+      p_drop += mv;
+    }
+  }
+  namespace h5 = common::h5;
+  h5::Handle f = h5::open_file_read(d.f("out.h5"));
+  h5::Handle a = h5::open_group(f, "audit", "");
+  EXPECT_EQ(h5::read_attr_int(a, "dropped_count", ""), 2000);
+  EXPECT_EQ(h5::read_attr_int(a, "before_count", ""), 1000);
+  EXPECT_NEAR(h5::read_attr_double(a, "dropped_mass", ""), m_drop, 1e-12 * m_drop);
+  EXPECT_NEAR(h5::read_attr_double(a, "before_mass", ""), m_keep, 1e-12 * m_keep);
+  const auto pd = h5::read_attr_doubles(a, "dropped_momentum", "");
+  ASSERT_EQ(pd.size(), 3u);
+  EXPECT_LT((Eigen::Vector3d(pd[0], pd[1], pd[2]) - p_drop).norm(), 1e-12 * scale);
+  // The spheres carry the kept particles' mass and momentum, and only their ids.
+  const auto sph = common::read_sphere_set(d.f("out.h5"));
+  double m_sph = 0;
+  Eigen::Vector3d p_sph = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < sph.count(); ++i) {
+    m_sph += sph.mass[i];
+    p_sph += sph.mass[i] * Eigen::Vector3d(&sph.velocity[3 * i]);
+  }
+  EXPECT_NEAR(m_sph, m_keep, 1e-12 * m_keep);
+  EXPECT_LT((p_sph - p_keep).norm(), 1e-12 * scale);
+  const auto ids = h5::read_u64(f, "/handoff/particle_id", -1, 1, d.f("out.h5"));
+  EXPECT_EQ(std::set<std::uint64_t>(ids.begin(), ids.end()), kept_ids);
+  EXPECT_EQ(ids.size(), kept_ids.size());
+  // The JSON audit says the same.
+  std::ifstream j(d.f("out.audit.json"));
+  const std::string json((std::istreambuf_iterator<char>(j)), {});
+  EXPECT_NE(json.find("\"dropped\": {\"count\": 2000, "), std::string::npos) << json;
+}
+
+TEST(Mpm2SpheresTool, IoFailureExitsFourAndLeavesNoPartialFile) {
+  Dir d;
+  const std::string in = good_snapshot(d);
+  const auto before = entries(d.p);
+  // An output directory that does not exist (the tool does not create it).
+  auto [rc, msg] = run_capture("-i " + in + " -o " + d.f("no_such_dir/out.h5"));
+  EXPECT_EQ(rc, 4) << msg;
+  EXPECT_NE(msg.find("I/O failure: " + d.f("no_such_dir/")), std::string::npos) << msg;
+  EXPECT_NE(msg.find("does not exist"), std::string::npos) << msg;
+  EXPECT_EQ(entries(d.p), before);  // nothing written, no directory created
+  // An output name taken by a directory: the rename fails after the file was written.
+  fs::create_directory(d.f("taken.h5"));
+  std::tie(rc, msg) = run_capture("-i " + in + " -o " + d.f("taken.h5"));
+  EXPECT_EQ(rc, 4) << msg;
+  EXPECT_NE(msg.find(d.f("taken.h5") + ": cannot rename temporary file into place"), std::string::npos) << msg;
+  EXPECT_TRUE(fs::is_directory(d.f("taken.h5")));
+  EXPECT_TRUE(fs::is_empty(d.f("taken.h5")));
+  for (const auto& e : entries(d.p)) {
+    EXPECT_EQ(e.find(".tmp."), std::string::npos) << "temporary file left behind: " << e;
+    EXPECT_NE(e, "taken.xmf");
+  }
+}
+
+TEST(Mpm2SpheresTool, VersionAndPrintSceneReadBack) {
+  auto [rc, out] = run_capture("--version");
+  EXPECT_EQ(rc, 0);
+  EXPECT_TRUE(std::regex_match(out, std::regex("mpm2spheres [0-9]+\\.[0-9]+\\.[0-9]+ \\(git ([0-9a-f]{12}(\\+dirty)?|unknown)\\)\n")))
+      << out;
+  Dir d;
+  // With a damage field: the printed scene lists the default `carry = 'damage'` as if given, and
+  // a given carry field must exist (a snapshot without damage would be refused on the rerun).
+  auto snap = testsets::uniform(2000, 12, 1.0, 2.5, 9.5, 0.5);
+  snap.fields.push_back({"damage", "1", 1, std::vector<double>(snap.count(), 0.5), ""});
+  const std::string in = d.f("damaged.h5");
+  common::write_particle_snapshot(in, snap, prov());
+  // The flags resolve into the scene that --print-scene prints; that scene runs as it stands.
+  std::tie(rc, out) = run_capture("-i " + in + " -o " + d.f("c.h5") + " --coarsen 3 --method conserving --print-scene");
+  ASSERT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("coarsen = 3\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("method = 'conserving'\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("max_energy_loss = 1.0\n"), std::string::npos) << out;  // a default
+  EXPECT_FALSE(fs::exists(d.f("c.h5")));                                     // printing runs nothing
+  std::ofstream(d.f("printed.toml")) << out;
+  const auto again = run_capture("--scene " + d.f("printed.toml") + " --print-scene");
+  EXPECT_EQ(again.first, 0);
+  EXPECT_EQ(again.second, out);
+  ASSERT_EQ(run("--scene " + d.f("printed.toml")), 0);
+  const auto s = common::read_sphere_set(d.f("c.h5"));
+  ASSERT_GT(s.count(), 0u);
+  EXPECT_DOUBLE_EQ(s.radius[0], 1.5);  // coarsen 3 x h = 1 m, halved
+  ASSERT_NE(s.field("damage"), nullptr);
+  EXPECT_DOUBLE_EQ(s.field("damage")->values[0], 0.5);
+  common::h5::Handle f = common::h5::open_file_read(d.f("c.h5"));
+  EXPECT_EQ(common::h5::read_attr_string(common::h5::open_group(f, "audit", ""), "method", ""), "conserving");
 }
