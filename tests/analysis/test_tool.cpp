@@ -8,6 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include <unistd.h>
+
 #include "analysis/analyse_scene.hpp"
 #include "common/particle_file.hpp"
 #include "common/sphere_file.hpp"
@@ -23,7 +25,9 @@ struct RunResult {
   std::string out;
 };
 RunResult run(const std::string& args) {
-  const std::string log = (fs::temp_directory_path() / "ssdem_analyse_test.log").string();
+  // One log per test process: ctest runs the tests of this file in parallel processes.
+  const std::string log =
+      (fs::temp_directory_path() / ("ssdem_analyse_test_" + std::to_string(getpid()) + ".log")).string();
   const int rc = std::system((std::string(SSDEM_ANALYSE_EXE) + " " + args + " > " + log + " 2>&1").c_str());
   std::ifstream f(log);
   std::stringstream ss;
