@@ -46,6 +46,8 @@ struct Config {
   double t_max_factor = 20.0;  ///< stop at t_ramp + factor * (60 MPa / (E eps_dot))
   int progress_every = 0;      ///< print every n steps (0: never)
   std::string basalt_style = "tonge_ramesh";  ///< or "tillotson" (no damage: cost reference)
+  /// Flaw sampling of the basalt (tonge_ramesh::FlawSampling): per-particle Poisson or expected.
+  mpmfrag::tonge_ramesh::FlawSampling sampling = mpmfrag::tonge_ramesh::FlawSampling::poisson;
 };
 
 struct Sample {
@@ -101,7 +103,8 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
         for (int i = -nW; i < nW; ++i)
           plat.push_back({(i + 0.5) * h, s * (R + (j + 0.5) * h), (k + 0.5) * h});
   const std::size_t nd = disk.size(), n = nd + plat.size();
-  const tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
+  tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
+  tp.sampling = c.sampling;
   const double rho_p = 7850.0 * 1e3, Kp = 160e9, Gp = 80e9;
   ParticleSet ps;
   ps.resize(n, true);

@@ -1,5 +1,6 @@
 // damage_brazilian: dynamic Brazilian disk of basalt (see brazilian.hpp).
 // Usage: damage_brazilian <outdir> <rate_per_s> [cell_m=1e-4] [courant=0.3] [seed=1] [style]
+//        [sampling=poisson|expected]
 // Writes <outdir>/history_<rate>.csv, <outdir>/damage_<rate>.csv and one summary line
 // (rate,eff_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s) on stdout.
 // Exit 3 on a numerical failure (the partial history and damage field are written first).
@@ -21,6 +22,15 @@ int main(int argc, char** argv) {
   if (argc > 4) c.courant = std::atof(argv[4]);
   if (argc > 5) c.seed = std::strtoull(argv[5], nullptr, 10);
   if (argc > 6) c.basalt_style = argv[6];  // "tillotson": undamageable reference disk
+  if (argc > 7) {
+    const std::string smp = argv[7];
+    if (smp != "poisson" && smp != "expected") {
+      std::fprintf(stderr, "sampling must be poisson or expected, got '%s'\n", smp.c_str());
+      return 2;
+    }
+    c.sampling = smp == "expected" ? mpmfrag::tonge_ramesh::FlawSampling::expected
+                                   : mpmfrag::tonge_ramesh::FlawSampling::poisson;
+  }
   c.progress_every = 500;
   const auto r = brazilian::run(c);
   char tag[64];

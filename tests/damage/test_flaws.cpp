@@ -149,3 +149,28 @@ TEST(Flaws, HugeParticleVolumes) {
     EXPECT_GT(om[k], 0.0);
   }
 }
+
+// Expected-density sampling: every bin carries eta (F(s_h) - F(s_l)) whatever the particle volume,
+// so sum omega = eta and sum omega s^3 = eta E[s^3] exactly (basalt: 3.97e-3 + 6.74e-3), and two
+// particles of different volume and id get the same bins.
+TEST(Flaws, ExpectedDensityIsVolumeIndependentAndExact) {
+  Params p = basalt_el_mir();
+  p.sampling = FlawSampling::expected;
+  std::vector<double> a(50), sa(50), b(50), sb(50);
+  const double D0 = sample_flaws(p, 1e-12, 1, 0, a.data(), sa.data());
+  sample_flaws(p, 1e3, 99, 0, b.data(), sb.data());
+  EXPECT_EQ(a, b);
+  EXPECT_EQ(sa, sb);
+  double n_small = 0.0, n_large = 0.0;
+  for (int k = 0; k < 25; ++k) n_small += a[k];
+  for (int k = 25; k < 50; ++k) n_large += a[k];
+  EXPECT_NEAR(n_small / 2e12, 1.0, 1e-12);
+  EXPECT_NEAR(n_large / 250.0, 1.0, 1e-12);
+  EXPECT_NEAR(D0, 3.97374e-3 + 6.74040e-3, 1e-8);
+  const auto& sm = p.populations[0];
+  const auto e = bin_edges(sm);
+  for (int k = 0; k < 25; ++k) {
+    EXPECT_GT(sa[k], e[k + 1]);  // representative size inside its bin
+    EXPECT_LT(sa[k], e[k]);
+  }
+}

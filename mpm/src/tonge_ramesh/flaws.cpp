@@ -59,7 +59,14 @@ double sample_flaws(const Params& p, double V, std::uint64_t particle_id,
     const auto e = bin_edges(f);
     for (int k = 0; k < f.bins; ++k) {
       const double sh = e[k], sl = e[k + 1];
-      const double lambda = f.density * V * (pareto_cdf(f, sh) - pareto_cdf(f, sl));
+      const double dF = pareto_cdf(f, sh) - pareto_cdf(f, sl);
+      if (p.sampling == FlawSampling::expected) {
+        omega[off + k] = f.density * dF;
+        s[off + k] = std::cbrt(pareto_moment(f.exponent, sl, sh, 3));
+        D0 += omega[off + k] * s[off + k] * s[off + k] * s[off + k];
+        continue;
+      }
+      const double lambda = f.density * V * dF;
       // Poisson count; for astronomically large means (planetary-scale particles, where a uint64
       // would overflow) the relative fluctuation ~lambda^-1/2 < 1e-6 is dropped: n = round(lambda).
       const double n = lambda < 1e12 ? double(rng.poisson(lambda)) : std::floor(lambda + 0.5);

@@ -178,6 +178,10 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
   c.add_real("pa_alpha0", d.pa_alpha_e, "1", 1.0, 100.0, "P-alpha alpha0", true);
   c.add_real("pa_Pc", d.pa_Pc, "Pa", 0.0, 1e15, "P-alpha full-compaction pressure", true);
   c.add_int("flaw_seed", 0, 0, 1LL << 62, "user part of the flaw-sampling seed (xor scene seed)");
+  c.add_choice("flaw_sampling", std::string("poisson"), {"poisson", "expected"},
+               "poisson: each particle draws its own flaws (Poisson counts from density x particle "
+               "volume, El Mir; strength depends on the cell size); expected: every particle carries "
+               "the expected density of every bin (continuum population, no particle-volume effect)");
   for (int ip = 0; ip < 2; ++ip) {
     const std::string pre = ip == 0 ? "small_" : "large_";
     const tr::FlawPopulation& f = d.populations[ip];
@@ -218,6 +222,8 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
     p.pa_alpha_e = e.real("pa_alpha0");
     p.pa_Pc = e.real("pa_Pc");
     p.seed = static_cast<std::uint64_t>(e.integer("flaw_seed"));
+    p.sampling = e.string("flaw_sampling") == "expected" ? tr::FlawSampling::expected
+                                                         : tr::FlawSampling::poisson;
     p.populations.clear();
     for (const std::string pre : {"small_", "large_"}) {
       tr::FlawPopulation f;

@@ -8,6 +8,9 @@
 /// n flaws (exact inverse-CDF draws for n < 20, a truncated normal on s^3 for n >= 20).
 /// QUIRK (PTR uses sqrt(E[s^6]/n) as the spread of mean s^3): fixed, we use the variance
 /// sqrt((E[s^6]-E[s^3]^2)/n), which is the statistically correct standard error.
+/// With Params::sampling == expected every particle instead gets omega_k = eta (F(s_h)-F(s_l)) and
+/// s_k = E[s^3 | s_l..s_h]^(1/3), independent of V and of the random stream (exact sum omega s^3 =
+/// eta E[s^3]).
 /// Poisson counts use KeyedRng::poisson (exact Knuth product below mean 30, rounded normal above;
 /// PTR switches at 20: immaterial).
 #pragma once

@@ -30,6 +30,15 @@ struct TillotsonCold {
   double E0 = 4.87e8;  ///< [J/kg]
 };
 
+/// How a population's bins are filled for one particle (flaws.hpp).
+///  * poisson: each particle draws its own flaws, n_k ~ Poisson(eta V Delta F_k), omega_k = n_k/V
+///    (PTR RandomizeMethod 7; the El Mir/issue default). The largest flaw a particle can hold
+///    shrinks with its volume, so the strength depends on the cell size.
+///  * expected: every particle carries the expected density of every bin, omega_k = eta Delta F_k,
+///    s_k = E[s^3 | bin k]^(1/3) (PTR's non-random option, RandomizeFlawDist = 0, with the same bin
+///    edges): the flaw population is a property of the continuum, independent of particle volume.
+enum class FlawSampling { poisson, expected };
+
 /// All model parameters (SI).
 struct Params {
   double rho0 = 2700.0;        ///< reference solid density [kg/m^3]
@@ -59,6 +68,7 @@ struct Params {
   double pa_alpha_e = 1.25;     ///< P–alpha alpha_e ("alpha0") [-]
   double pa_Pc = 200e6;         ///< P–alpha full-compaction pressure P_c [Pa]
   std::uint64_t seed = 0;       ///< user part of the flaw-sampling seed
+  FlawSampling sampling = FlawSampling::poisson;  ///< per-particle realisation or expected density
 
   /// Total bin count over all populations.
   int total_bins() const {
