@@ -60,6 +60,20 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
     common::write_particle_snapshot(path, make_snapshot(ps, mats, solver.grid(), t, step), prov);
     return path;
   };
+  // Particles removed at the grid edge (grid.outflow = "remove"): all of them so far, with
+  // ballistic positions at the current time, in <prefix>_outflow.h5 next to each snapshot.
+  std::size_t reported_out = 0;
+  auto write_outflow = [&]() {
+    if (solver.outflow_count() == 0) return;
+    const std::string path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_outflow.h5")).string();
+    common::write_particle_snapshot(path, solver.outflow_snapshot(), prov);
+    if (solver.outflow_count() != reported_out) {
+      const Diagnostics d = solver.diagnostics();
+      spdlog::info("outflow: {} particles ({:.4g} kg, {:.3g} % of the mass) have left the grid by t = {:.6g} s -> {}",
+                   d.removed, d.removed_mass, 100 * d.removed_mass / d.mass, solver.time(), path);
+      reported_out = solver.outflow_count();
+    }
+  };
   sum.initial = solver.diagnostics();
   series.write(0, 0.0, 0.0, sum.initial);
   sum.last_snapshot = write_snap(solver.particles(), solver.materials(), 0.0, 0, "");
@@ -98,6 +112,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
         const Backup& b = solver.backup();
         path = write_snap(b.particles, b.materials, b.time, b.step, "failed_");
       }
+      write_outflow();
       series.write(solver.step_count(), solver.time(), dt, solver.diagnostics());
       series.commit();  // the series up to the failure replaces an earlier one
       spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
@@ -114,11 +129,13 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
     }
     if (at_snap && !at_end) {
       sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+      write_outflow();
       next_snap += rc.snapshot_interval;
     }
   }
   sum.final = solver.diagnostics();
   sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+  write_outflow();
   series.commit();
   sum.steps = solver.step_count();
   sum.time = solver.time();

@@ -85,6 +85,10 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_vec3("grid.domain_max", std::nullopt, "m", -kBig, kBig, "upper corner of the simulation domain");
   s.add_real("grid.cell_size", std::nullopt, "m", 0.0, kBig, "cubic cell edge h", true);
   s.add_int("grid.ghost_layers", 2, 1, 8, "node layers outside each domain face");
+  s.add_choice("grid.outflow", std::string("stop"), {"stop", "remove"},
+               "a particle whose stencil leaves the grid: stop the run (exit 3, state saved) or remove it "
+               "from the grid computation (it then flies ballistically, is kept in <prefix>_outflow.h5 "
+               "and stays in the conserved totals)");
 
   s.add_choice("solver.shape", std::string("ugimp"), {"ugimp", "linear"}, "interpolation: uGIMP (default) or classic linear MPM");
   s.add_choice("solver.scheme", std::string("musl"), {"usl", "usf", "musl"}, "stress-update order");
@@ -149,6 +153,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   c.reorder_every = static_cast<int>(sc.integer("solver.reorder_every"));
   c.dt_max = sc.real("time.dt_max");
   c.ghost_layers = static_cast<int>(sc.integer("grid.ghost_layers"));
+  c.outflow_remove = sc.string("grid.outflow") == "remove";
   c.seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
   const char* faces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
   for (int f = 0; f < 6; ++f) c.boundary[f] = parse_boundary(sc.string(std::string("boundary.") + faces[f]));

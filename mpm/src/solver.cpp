@@ -66,8 +66,8 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
       if (ps_.material[p] != static_cast<std::int32_t>(m))
         throw common::InputError("particles of material '" + s.name + "' are not contiguous");
     if (s.state.size() != s.style->state_fields.size()) s.allocate_state();
-    for (std::size_t b = s.begin; b < s.end; b += kChunk) chunks_.push_back({b, std::min(b + kChunk, s.end), static_cast<int>(m)});
   }
+  build_chunks();
   h_min_ = grid_.cell_size.minCoeff();
   for (int d = 0; d < 3; ++d)
     for (std::size_t p = 0; p < n; ++p)
@@ -76,6 +76,13 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
   m_min_ = cfg_.min_mass_fraction * *std::min_element(ps_.mass.begin(), ps_.mass.end());
   nodes_.assign(node_count(grid_), Node{});
   for (int d = 0; d < 3; ++d) nblocks_[d] = (grid_.shape[d] + kBlock - 1) / kBlock;
+}
+
+void Solver::build_chunks() {
+  chunks_.clear();
+  for (std::size_t m = 0; m < mats_.size(); ++m)
+    for (std::size_t b = mats_[m].begin; b < mats_[m].end; b += kChunk)
+      chunks_.push_back({b, std::min(b + kChunk, mats_[m].end), static_cast<int>(m)});
   chunk_speed_.assign(chunks_.size(), 0.0);
   chunk_fail_.assign(chunks_.size(), 0);
   chunk_msg_.assign(chunks_.size(), std::string());
@@ -90,22 +97,38 @@ void Solver::bin() {
   order_.resize(n);
   const double* x = ps_.x.data();
   const double* lp = ps_.half_width.data();
-  std::size_t first_bad = n;
-#pragma omp parallel for schedule(static) reduction(min : first_bad)
+  std::size_t first_bad = n, first_nan = n, n_out = 0;
+  if (cfg_.outflow_remove) out_flag_.assign(n, 0);
+  char* flag = out_flag_.data();
+#pragma omp parallel for schedule(static) reduction(min : first_bad, first_nan) reduction(+ : n_out)
   for (std::size_t p = 0; p < n; ++p) {
     int f[3];
-    bool ok = true;
+    bool ok = true, finite = true;
     for (int d = 0; d < 3; ++d) {
       const AxisWeights a = axis_weights(cfg_.shape, x[3 * p + d], grid_.origin[d], grid_.cell_size[d], lp[3 * p + d]);
       f[d] = a.first;
-      if (!(a.first >= 0 && a.first + NPA <= grid_.shape[d]) || !std::isfinite(x[3 * p + d])) ok = false;
+      if (!(a.first >= 0 && a.first + NPA <= grid_.shape[d])) ok = false;
+      if (!std::isfinite(x[3 * p + d])) finite = ok = false;
     }
     if (!ok) {
       first_bad = std::min(first_bad, p);
+      if (!finite) first_nan = std::min(first_nan, p);
+      if (cfg_.outflow_remove) flag[p] = 1;
+      ++n_out;
       key_[p] = 0;
       continue;
     }
     key_[p] = static_cast<std::uint32_t>(f[0] / kBlock + nblocks_[0] * (f[1] / kBlock + nblocks_[1] * (f[2] / kBlock)));
+  }
+  if (first_nan < n) {
+    std::ostringstream os;
+    os << "non-finite position of particle id " << ps_.id[first_nan] << " at t = " << time_ << " s, step " << step_;
+    throw SolverFailure(os.str(), true);
+  }
+  if (n_out > 0 && cfg_.outflow_remove) {
+    remove_particles(out_flag_);
+    bin<NPA>();
+    return;
   }
   if (first_bad < n) {
     std::ostringstream os;
@@ -776,6 +799,7 @@ Diagnostics Solver::diagnostics() const {
     part[c] = d;
   }
   Diagnostics t;
+  part.push_back(out_diag_);  // removed particles: constant totals, summed last (same order always)
   for (const Diagnostics& d : part) {
     t.mass += d.mass;
     t.momentum += d.momentum;
@@ -783,6 +807,8 @@ Diagnostics Solver::diagnostics() const {
     t.kinetic += d.kinetic;
     t.internal += d.internal;
   }
+  t.removed = out_.size();
+  t.removed_mass = out_diag_.mass;
   return t;
 }
 

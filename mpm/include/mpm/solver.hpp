@@ -24,7 +24,11 @@
 ///
 /// Bodies share one velocity field (no contact algorithm): bodies that meet stick
 /// (mpm.md §1.7). A particle whose stencil leaves the grid stops the run (SolverFailure with
-/// state_intact = true, before anything is modified).
+/// state_intact = true, before anything is modified), or, with `outflow_remove`, is taken out of
+/// the grid computation (outflow.cpp): from then on it moves ballistically (no stress, no grid
+/// force: material that has left a domain drawn well around the bodies is free ejecta), its
+/// record is kept (outflow_snapshot()) and its mass, momentum, angular momentum and energies stay
+/// in diagnostics(), which therefore still measure conservation of the whole system.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -69,6 +73,7 @@ struct SolverConfig {
   int ghost_layers = 2;              ///< node layers outside the domain on each side
   std::uint64_t seed = 0;
   int reorder_every = 25;            ///< steps between particle re-sorting (locality); 0 = never
+  bool outflow_remove = false;       ///< particles leaving the grid: stop (false) or remove (true)
 };
 
 /// Grid covering [lo, hi] with cubic cells of size h plus `ghost` node layers on each side;
@@ -81,6 +86,8 @@ struct Diagnostics {
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_momentum = Eigen::Vector3d::Zero();  ///< about the origin
   double kinetic = 0, internal = 0;
+  std::size_t removed = 0;   ///< particles that left the grid (included in the totals above)
+  double removed_mass = 0;   ///< their mass [kg]
   double total() const { return kinetic + internal; }
 };
 
@@ -141,6 +148,11 @@ class Solver {
   std::size_t grid_bytes() const;
   /// Whether the last stable_dt() was limited by dt_max.
   bool dt_capped() const { return dt_capped_; }
+  /// Particles removed at the grid edge (SolverConfig::outflow_remove), in removal order, with
+  /// positions moved ballistically to the current time, dataset `removal_time` [s], their stress,
+  /// internal energy and output state fields at removal. Empty when none left the grid.
+  common::ParticleSnapshot outflow_snapshot() const;
+  std::size_t outflow_count() const { return out_.size(); }
 
   /// Node record (one cache line): m, momentum/velocity (3), force/updated velocity (3).
   struct alignas(64) Node {
@@ -159,6 +171,9 @@ class Solver {
   template <int NPA, int flags, int lslot> void g2p(double dt);
   template <int NPA> void musl_remap();
   void reorder();
+  void build_chunks();
+  /// Move the particles flagged in `out` to the outflow record and compact every array.
+  void remove_particles(const std::vector<char>& out);
   void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs);
 
   SolverConfig cfg_;
@@ -178,6 +193,7 @@ class Solver {
   // binning
   Eigen::Vector3i nblocks_;
   std::vector<std::uint32_t> key_;
+  std::vector<char> out_flag_;  ///< particles outside the grid (outflow_remove only)
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> block_start_;
   std::array<std::vector<std::uint32_t>, 8> colour_blocks_;
@@ -191,6 +207,12 @@ class Solver {
   std::vector<std::size_t> chunk_fail_;
   std::vector<std::string> chunk_msg_;
   Backup backup_;
+  // outflow record (outflow.cpp)
+  ParticleSet out_;                     ///< removed particles (core arrays at removal)
+  std::vector<double> out_time_;        ///< removal times [s]
+  std::vector<common::Field> out_fields_;  ///< output state fields of the removed particles
+  std::vector<double> out_init_;        ///< initial value of each of those fields
+  Diagnostics out_diag_;                ///< their totals (constant in ballistic flight)
 };
 
 }  // namespace mpmfrag
