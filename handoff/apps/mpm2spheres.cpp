@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.add_scene_flag("-i,--input", "input", "particle snapshot to read");
   app.add_scene_flag("-o,--output", "output", "sphere file to write");
   app.add_scene_flag("--method", "method", "paper | conserving");
+  app.add_scene_flag("--outflow", "outflow", "mpm-frag outflow file (particles that left the grid) to hand off too");
   app.add_scene_flag("--coarsen", "coarsen", "sphere cell edge in MPM cells");
   app.add_scene_flag("--ss", "export.ss", "also write a pkdgrav .ss file");
   app.add_scene_flag("--max-ke-loss", "audit.max_energy_loss", "fail (exit 3) above this relative KE loss");

@@ -55,7 +55,7 @@ double Audit::angular_momentum_error_relative() const {
 
 double min_sphere_gap(const ProjectionResult& r) {
   const auto& s = r.spheres;
-  const std::size_t n = s.count();
+  const std::size_t n = r.cell.size();  // the projection's spheres (outflow spheres follow them)
   double best = std::numeric_limits<double>::infinity();
   const Eigen::Vector3i sh = r.cell_shape;
   const std::int64_t ncells = std::int64_t(sh[0]) * sh[1] * sh[2];
@@ -99,7 +99,11 @@ std::string audit_text(const Audit& a) {
   o << "hand-off audit (method " << a.method << ")\n"
     << "  particles in file " << a.input.count << ", handed off " << a.before.count << ", dropped " << a.dropped.count
     << "; occupied MPM cells " << a.occupied_mpm_cells << "; spheres " << a.after.count << " (cell " << a.sphere_cell
-    << " m)\n"
+    << " m)\n";
+  if (a.outflow_particles > 0)
+    o << "  outflow: " << a.outflow_particles << " particles that left the grid -> " << a.outflow_spheres
+      << " spheres outside it (the rest merged into edge spheres)\n";
+  o
     << std::scientific << "  mass       before " << a.before.mass << " kg, after " << a.after.mass
     << " kg, rel. diff " << a.mass_error_relative() << "\n"
     << "  momentum   before " << a.before.momentum.transpose() << " kg m/s, |diff|/(M v_rms) "
@@ -121,6 +125,7 @@ std::string audit_json(const Audit& a) {
   o << "{\n  \"method\": \"" << a.method << "\",\n  \"input\": " << inv_json(a.input) << ",\n  \"before\": "
     << inv_json(a.before) << ",\n  \"after\": " << inv_json(a.after) << ",\n  \"dropped\": " << inv_json(a.dropped)
     << ",\n  \"occupied_mpm_cells\": " << a.occupied_mpm_cells << ",\n  \"sphere_cell_size\": " << num(a.sphere_cell)
+    << ",\n  \"outflow_particles\": " << a.outflow_particles << ",\n  \"outflow_spheres\": " << a.outflow_spheres
     << ",\n  \"mass_rel_diff\": " << num(a.mass_error_relative())
     << ",\n  \"momentum_abs_diff\": " << vec(a.after.momentum - a.before.momentum)
     << ",\n  \"momentum_rel_diff\": " << num(a.momentum_error_relative())
@@ -144,6 +149,8 @@ void write_audit_h5(long long file, const Audit& a) {
   inv_h5(g, "dropped_", a.dropped);
   h5::write_attr(g, "occupied_mpm_cells", static_cast<std::int64_t>(a.occupied_mpm_cells));
   h5::write_attr(g, "sphere_cell_size", a.sphere_cell);
+  h5::write_attr(g, "outflow_particles", static_cast<std::int64_t>(a.outflow_particles));
+  h5::write_attr(g, "outflow_spheres", static_cast<std::int64_t>(a.outflow_spheres));
   h5::write_attr(g, "mass_rel_diff", a.mass_error_relative());
   h5::write_attr(g, "momentum_rel_diff", a.momentum_error_relative());
   h5::write_attr(g, "angular_momentum_rel_diff", a.angular_momentum_error_relative());

@@ -11,6 +11,9 @@ namespace handoff {
 common::Schema handoff_schema() {
   common::Schema s("mpm2spheres: hand-off from an mpm-frag particle snapshot to an ssdem.spheres file");
   s.add_string("input", std::nullopt, "particle snapshot (format mpm-frag.particles) to read");
+  s.add_string("outflow", std::string(""),
+               "mpm-frag <prefix>_outflow.h5 (particles removed at the grid edge, grid.outflow = \"remove\"): "
+               "handed off with the same one-sphere-per-cell rule on the lattice extended past the grid (empty: none)");
   s.add_string("output", std::nullopt, "sphere file (format ssdem.spheres) to write; an .xmf sidecar is written beside it");
   s.add_choice("method", std::string("paper"), {"paper", "conserving"},
                "paper: El Mir et al. 2019 (mass and momentum exact, KE loss reported); conserving: paper spheres "
@@ -35,6 +38,7 @@ HandoffConfig handoff_config(const common::Scene& sc) {
   HandoffConfig c;
   c.input = sc.string("input");
   c.output = sc.string("output");
+  c.outflow = sc.string("outflow");
   c.method = sc.string("method");
   c.projection.shape = mpmfrag::parse_shape_kind(sc.string("shape"));
   c.projection.coarsen = static_cast<int>(sc.integer("coarsen"));

@@ -8,28 +8,41 @@
 #include "common/h5.hpp"
 #include "common/status.hpp"
 #include "handoff/conserving.hpp"
+#include "handoff/outflow.hpp"
 #include "handoff/ss_format.hpp"
 
 namespace handoff {
 
 namespace {
-Invariants invariants_of(const common::ParticleSnapshot& s, const std::vector<std::size_t>& idx) {
+/// Particles idx of s, and (optionally) idx2 of s2 moved ballistically to time t.
+Invariants invariants_of(const common::ParticleSnapshot& s, const std::vector<std::size_t>& idx,
+                         const common::ParticleSnapshot* s2 = nullptr, const std::vector<std::size_t>* idx2 = nullptr,
+                         double t = 0.0) {
+  if (!s2 && idx.size() == s.count())  // every particle, in order: no copy
+    return compute_invariants(s.count(), s.position.data(), s.velocity.data(), s.mass.data());
   std::vector<double> x, v, m;
-  x.reserve(3 * idx.size());
-  v.reserve(3 * idx.size());
-  m.reserve(idx.size());
-  for (std::size_t i : idx) {
-    for (int d = 0; d < 3; ++d) {
-      x.push_back(s.position[3 * i + d]);
-      v.push_back(s.velocity[3 * i + d]);
+  auto add = [&](const common::ParticleSnapshot& q, const std::vector<std::size_t>& ii, double dt) {
+    for (std::size_t i : ii) {
+      for (int d = 0; d < 3; ++d) {
+        x.push_back(q.position[3 * i + d] + dt * q.velocity[3 * i + d]);
+        v.push_back(q.velocity[3 * i + d]);
+      }
+      m.push_back(q.mass[i]);
     }
-    m.push_back(s.mass[i]);
-  }
-  return compute_invariants(idx.size(), x.data(), v.data(), m.data());
+  };
+  add(s, idx, 0.0);
+  if (s2) add(*s2, *idx2, t - s2->time);
+  return compute_invariants(m.size(), x.data(), v.data(), m.data());
+}
+std::vector<std::size_t> all_of(const common::ParticleSnapshot& s) {
+  std::vector<std::size_t> i(s.count());
+  for (std::size_t k = 0; k < i.size(); ++k) i[k] = k;
+  return i;
 }
 }  // namespace
 
-HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfig& cfg_in) {
+HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfig& cfg_in,
+                        const common::ParticleSnapshot* outflow) {
   HandoffConfig cfg = cfg_in;
   if (!cfg.carry_given) {  // default carry list: skip fields the snapshot does not have
     std::vector<std::string> present;
@@ -40,16 +53,23 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
   HandoffOutcome out;
   Audit& a = out.audit;
   a.method = cfg.method;
-  a.input = compute_invariants(snap.count(), snap.position.data(), snap.velocity.data(), snap.mass.data());
   const Selection sel = select_particles(snap, cfg.select, cfg.input);
-  a.dropped = invariants_of(snap, sel.dropped);
+  Selection osel;
+  if (outflow) osel = select_particles(*outflow, cfg.select, cfg.outflow);
+  const std::vector<std::size_t> all = all_of(snap), oall = outflow ? all_of(*outflow) : std::vector<std::size_t>{};
+  a.input = invariants_of(snap, all, outflow, outflow ? &oall : nullptr, snap.time);
+  a.dropped = invariants_of(snap, sel.dropped, outflow, outflow ? &osel.dropped : nullptr, snap.time);
   if (sel.kept.empty())
     throw common::InputError(cfg.input, "select", "the selection rules removed every particle");
   const common::ParticleSnapshot kept_storage = cfg.select.active() ? subset(snap, sel.kept) : common::ParticleSnapshot{};
   const common::ParticleSnapshot& kept = cfg.select.active() ? kept_storage : snap;
-  a.before = cfg.select.active() ? invariants_of(snap, sel.kept) : a.input;
+  a.before = invariants_of(snap, sel.kept, outflow, outflow ? &osel.kept : nullptr, snap.time);
 
   out.result = project_to_spheres(kept, cfg.projection, cfg.input);
+  if (outflow && !osel.kept.empty()) {
+    a.outflow_particles = osel.kept.size();
+    a.outflow_spheres = append_outflow(subset(*outflow, osel.kept), snap.grid, snap.time, out.result, cfg.outflow);
+  }
   common::SphereSet& sph = out.result.spheres;
   if (cfg.method == "conserving") {
     const ConservingResult cr = apply_conserving(sph, a.before);
@@ -68,8 +88,10 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
 int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
   const auto t0 = std::chrono::steady_clock::now();
   const common::ParticleSnapshot snap = common::read_particle_snapshot(cfg.input);
+  common::ParticleSnapshot outflow;
+  if (!cfg.outflow.empty()) outflow = common::read_particle_snapshot(cfg.outflow);
   const auto t1 = std::chrono::steady_clock::now();
-  HandoffOutcome out = hand_off(snap, cfg);
+  HandoffOutcome out = hand_off(snap, cfg, cfg.outflow.empty() ? nullptr : &outflow);
   const auto t2 = std::chrono::steady_clock::now();
   const Audit& a = out.audit;
   spdlog::info("{}", audit_text(a));
@@ -92,6 +114,7 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
     h5::write_attr(g, "description", std::string("sphere s holds particles particle_id[sphere_particle_offset[s] : "
                                                  "sphere_particle_offset[s+1]] of the input snapshot"));
     h5::write_attr(g, "input", cfg.input);
+    h5::write_attr(g, "outflow", cfg.outflow);
     h5::write_attr(g, "method", cfg.method);
     h5::write_attr(g, "coarsen", static_cast<std::int64_t>(cfg.projection.coarsen));
     write_audit_h5(f, a);

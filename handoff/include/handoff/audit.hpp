@@ -17,6 +17,8 @@ struct Audit {
   Invariants dropped;   ///< the particles the selection removed
   Invariants after;     ///< the spheres
   std::size_t occupied_mpm_cells = 0;
+  std::size_t outflow_particles = 0;  ///< handed-off particles taken from the outflow file
+  std::size_t outflow_spheres = 0;    ///< spheres created for them outside the projection's cells
   double sphere_cell = 0.0;
   double min_gap = 0.0;      ///< min over neighbouring sphere pairs of |x_a - x_b| - r_a - r_b [m]
   double max_overlap = 0.0;  ///< max(0, -min_gap) [m]
@@ -32,7 +34,9 @@ struct Audit {
   double angular_momentum_error_relative() const;
 };
 
-/// Smallest gap between spheres whose cells neighbour each other (+inf for a single sphere).
+/// Smallest gap between the projection's spheres whose cells neighbour each other (+inf for a
+/// single sphere). Spheres appended for outflow particles sit at centres of other cells of the
+/// same lattice, so they cannot overlap any sphere.
 double min_sphere_gap(const ProjectionResult& r);
 
 /// Human-readable multi-line summary.

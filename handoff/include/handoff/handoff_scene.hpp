@@ -14,6 +14,7 @@ common::Schema handoff_schema();
 
 struct HandoffConfig {
   std::string input, output, audit_json, ss_path, ss_units;
+  std::string outflow;  ///< mpm-frag outflow file (particles that left the grid); empty: none
   std::string method;  ///< "paper" or "conserving"
   ProjectionOptions projection;
   SelectionRules select;

@@ -12,8 +12,11 @@ struct HandoffOutcome {
   ProjectionResult result;
 };
 
-/// In-memory hand-off of an already-read snapshot (used by the tool and the tests).
-HandoffOutcome hand_off(const common::ParticleSnapshot& snapshot, const HandoffConfig& cfg);
+/// In-memory hand-off of an already-read snapshot (used by the tool and the tests), with the
+/// particles of an mpm-frag outflow file when `outflow` is given (outflow.hpp; the selection
+/// rules apply to them too, and every invariant of the audit includes them).
+HandoffOutcome hand_off(const common::ParticleSnapshot& snapshot, const HandoffConfig& cfg,
+                        const common::ParticleSnapshot* outflow = nullptr);
 
 /// The tool body; returns the exit code (0, or 3 when the KE loss exceeds the threshold).
 /// Throws common::InputError / IoError.
