@@ -10,6 +10,9 @@
 #   make -C pipelines impact-paper  the published resolution (200 m cells, ~1e6 particles: a cluster job)
 
 IMPACT_DIR := $(ROOT)/pipelines/impact
+# ---- scene family (the seed paper's by default; pipelines/impact/dart/ holds the DART-like one) ----
+FRAGMENT_SCENE ?= $(IMPACT_DIR)/fragment.toml
+NBODY_SCENE    ?= $(IMPACT_DIR)/reaccumulate.toml
 # ---- physical inputs (El Mir et al. 2019) ----
 TARGET_DIAMETER   ?= 25000
 IMPACTOR_DIAMETER ?= 1210
@@ -25,6 +28,9 @@ COARSEN       ?= 1
 HANDOFF_METHOD ?= paper
 DAMAGE_INC    ?= 0.01
 DOMAIN_FACTOR ?= 3.2
+# Material that leaves the MPM grid (fast ejecta, rebounding impactor fragments): "remove" takes
+# it out of the MPM step and hands it off from fragment/frag_outflow.h5; "stop" ends the run (exit 3).
+OUTFLOW       ?= remove
 RUN           ?= $(RUNS)/impact-c$(CELL)-v$(IMPACT_SPEED)
 MPM_SETS      ?=
 NBODY_SETS    ?=
@@ -40,7 +46,7 @@ HALF  := $(call impact_calc,(int($(DOMAIN_FACTOR)*$(TARGET_DIAMETER)/2/$(CELL)) 
 define FRAGMENT_SETS
 --set grid.cell_size=$(CELL) \
 --set 'grid.domain_min=[-$(HALF),-$(HALF),-$(HALF)]' --set 'grid.domain_max=[$(HALF),$(HALF),$(HALF)]' \
---set time.end=$(MPM_TIME) --set output.snapshot_interval=$(SNAP_INTERVAL) \
+--set time.end=$(MPM_TIME) --set output.snapshot_interval=$(SNAP_INTERVAL) --set grid.outflow=\"$(OUTFLOW)\" \
 --set output.directory=$(RUN)/fragment \
 --set material[0].density=$(DENSITY) --set material[0].max_damage_inc=$(DAMAGE_INC) \
 --set body[0].radius=$(R_T) --set 'body[1].center=[0,0,$(Z_I)]' --set body[1].radius=$(R_I) \
@@ -48,6 +54,25 @@ define FRAGMENT_SETS
 endef
 
 TIMED = $(IMPACT_DIR)/timed.sh $(RUN)/timing
+HANDOFF_SETS  ?=
+ANALYSE_SETS  ?=
+
+# Settings stamps: each stage depends on a small file holding its resolved command-line settings,
+# rewritten only when they change, so `make ... NBODY_SETS=...` reruns the N-body stage and what
+# follows it, and nothing before it.
+FRAGMENT_VARS = $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
+HANDOFF_VARS  = --method $(HANDOFF_METHOD) --coarsen $(COARSEN) $(HANDOFF_SETS)
+NBODY_VARS    = $(NBODY_SCENE) time.end=$(NBODY_TIME) output.times=$(NBODY_TIMES) $(NBODY_SETS)
+ANALYSE_VARS  = --set impact.target_radius=$(R_T) $(ANALYSE_SETS)
+$(RUN)/.vars/%: FORCE | $(RUN)/.dir
+	@mkdir -p $(@D)
+	@printf '%s\n' '$(subst ','"'"',$($*_VARS))' | cmp -s - $@ || printf '%s\n' '$(subst ','"'"',$($*_VARS))' > $@
+.PHONY: FORCE
+FORCE:
+
+# A stage whose listed outputs (its `done` file: one path per line) are not all present is rerun:
+# deleting any intermediate snapshot rebuilds it and everything that depends on it.
+stage_incomplete = $(if $(wildcard $(1)),$(if $(strip $(foreach f,$(shell cat $(1)),$(if $(wildcard $(f)),,x))),FORCE),)
 
 .PHONY: impact impact-paper demo impact-fragment impact-handoff impact-reaccumulate impact-analyse impact-report impact-print
 
@@ -61,41 +86,44 @@ impact-paper: ## the published resolution: 200 m cells, 30 s MPM, 4.5 h N-body (
 # impactor's rebounding fragments leave an 80 km grid at ~12 s), 3 km spheres, 1 h of
 # reaccumulation with dt set so that the lightest pair (a lone impactor particle against a full
 # sphere) gets 4 steps per contact and a full pair ~40. The paper: 200 m, 30 s, 100 m spheres, 4.5 h.
+DEMO_TIMES = MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
+  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
+DEMO_SETTINGS = CELL=1000 COARSEN=3 MPM_SETS="--set body[1].ppc=2" $(DEMO_TIMES)
 demo: tools ## small impact end to end in minutes on 2 cores (1 km cells, 3 km spheres, 1 h N-body)
-	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=1000 COARSEN=3 RUN=$(RUNS)/demo \
-	  MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
-	  MPM_SETS="--set body[1].ppc=2" \
-	  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
+	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact RUN=$(RUNS)/demo $(DEMO_SETTINGS)
 
 $(RUN)/.dir:
 	mkdir -p $(RUN)/timing && touch $@
 
-# 1. fragment: MPM with the Tonge-Ramesh model; final.h5 links the last snapshot.
-$(RUN)/fragment/final.h5: $(IMPACT_DIR)/fragment.toml $(BIN_MPM) | $(RUN)/.dir
+# 1. fragment: MPM with the Tonge-Ramesh model; final.h5 links the last snapshot; done lists every
+#    file (snapshots frag_<step>.h5 and, when material left the grid, frag_outflow.h5).
+$(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(BIN_MPM) $(call stage_incomplete,$(RUN)/fragment/done) | $(RUN)/.dir
 	rm -rf $(RUN)/fragment
-	$(TIMED) fragment $(BIN_MPM) --scene $< $(FRAGMENT_SETS)
+	$(TIMED) fragment $(BIN_MPM) --scene $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
 	cd $(RUN)/fragment && ln -sf $$(ls frag_[0-9]*.h5 | tail -n 1) final.h5
-impact-fragment: $(RUN)/fragment/final.h5
+	ls $(RUN)/fragment/frag_*.h5 > $@.tmp && mv $@.tmp $@
+impact-fragment: $(RUN)/fragment/done
 
 # 2. hand-off: one sphere per (coarsened) cell, audit JSON beside it.
-$(RUN)/spheres.h5: $(RUN)/fragment/final.h5 $(BIN_HANDOFF)
-	$(TIMED) handoff $(BIN_HANDOFF) -i $< -o $@ --method $(HANDOFF_METHOD) --coarsen $(COARSEN)
+$(RUN)/spheres.h5: $(RUN)/fragment/done $(RUN)/.vars/HANDOFF $(BIN_HANDOFF)
+	$(TIMED) handoff $(BIN_HANDOFF) -i $(RUN)/fragment/final.h5 -o $@ $(HANDOFF_VARS) \
+	  $$(test -f $(RUN)/fragment/frag_outflow.h5 && echo --outflow $(RUN)/fragment/frag_outflow.h5)
 impact-handoff: $(RUN)/spheres.h5
 
-# 3. reaccumulate: self-gravity + soft spheres for NBODY_TIME seconds.
-$(RUN)/nbody/done: $(RUN)/spheres.h5 $(IMPACT_DIR)/reaccumulate.toml $(BIN_NBODY)
+# 3. reaccumulate: self-gravity + soft spheres for NBODY_TIME seconds; done lists the snapshots.
+$(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBODY) $(call stage_incomplete,$(RUN)/nbody/done)
 	rm -rf $(RUN)/nbody
-	$(TIMED) reaccumulate $(BIN_NBODY) --scene $(IMPACT_DIR)/reaccumulate.toml \
-	  --set initial.file=$< --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
+	$(TIMED) reaccumulate $(BIN_NBODY) --scene $(NBODY_SCENE) \
+	  --set initial.file=$(RUN)/spheres.h5 --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
 	  --set output.dir=$(RUN)/nbody $(NBODY_SETS)
-	touch $@
+	ls $(RUN)/nbody/snap_*.h5 > $@.tmp && mv $@.tmp $@
 impact-reaccumulate: $(RUN)/nbody/done
 
 # 4. analyse: largest remnant, bound mass, beta, damage profiles over the N-body snapshots.
-$(RUN)/analysis.json: $(RUN)/nbody/done $(BIN_ANALYSE)
-	$(TIMED) analyse $(BIN_ANALYSE) $(RUN)/spheres.h5 $$(ls $(RUN)/nbody/snap_*.h5) \
-	  --mpm $(RUN)/fragment/final.h5 --mpm-initial $(RUN)/fragment/frag_000000.h5 \
-	  --set impact.target_radius=$(R_T) -o $(RUN)/analysis
+$(RUN)/analysis.json: $(RUN)/nbody/done $(RUN)/.vars/ANALYSE $(BIN_ANALYSE)
+	$(TIMED) analyse $(BIN_ANALYSE) $(RUN)/spheres.h5 $$(cat $(RUN)/nbody/done) \
+	  --mpm $(RUN)/fragment/final.h5 --mpm-initial $$(head -n 1 $(RUN)/fragment/done) \
+	  $(ANALYSE_VARS) -o $(RUN)/analysis
 impact-analyse: $(RUN)/analysis.json
 
 # 5. report: Markdown page with pictures, the paper's numbers beside ours.
@@ -105,3 +133,42 @@ impact-report: $(RUN)/report.md
 
 impact-print: ## print the stage commands without running them
 	@$(MAKE) -n -f $(firstword $(MAKEFILE_LIST)) impact
+
+# ---- second scene family: DART-like kinetic impact on a monolithic moonlet (dart/README.md) ----
+# Dimorphos-sized basalt target (160 m), impactor at DART's 6.145 km/s. The impactor is a basalt
+# sphere larger than DART (its mass is a variable; see the README for why and what it changes).
+DART_SETTINGS = FRAGMENT_SCENE=$(IMPACT_DIR)/dart/fragment.toml NBODY_SCENE=$(IMPACT_DIR)/dart/reaccumulate.toml \
+  TARGET_DIAMETER=160 IMPACT_SPEED=6145 DOMAIN_FACTOR=2 'MPM_SETS=--set body[1].ppc=8'
+dart: tools ## DART-like impact on a 160 m basalt moonlet: 2 m cells, 1 m impactor, 0.2 s MPM, 2 h N-body (hours on 2 cores)
+	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact $(DART_SETTINGS) RUN=$(RUNS)/dart \
+	  CELL=2 IMPACTOR_DIAMETER=1 MPM_TIME=0.2 SNAP_INTERVAL=0.04 COARSEN=2 NBODY_TIME=7200 \
+	  'NBODY_TIMES=[600.0, 1800.0, 3600.0, 7200.0]'
+dart-demo: tools ## DART-like impact at demo resolution: 5 m cells, 2 m impactor, 0.1 s MPM, 30 min N-body (minutes)
+	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact $(DART_SETTINGS) RUN=$(RUNS)/dart-demo \
+	  CELL=5 IMPACTOR_DIAMETER=2 MPM_TIME=0.1 SNAP_INTERVAL=0.02 COARSEN=2 NBODY_TIME=1800 \
+	  'NBODY_TIMES=[300.0, 900.0, 1800.0]' \
+	  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
+
+# ---- studies of the whole chain ----
+# Resolution: the demo impact at four MPM cell sizes with the same 3 km spheres (COARSEN = 3 km / CELL),
+# so the N-body stage starts from the same sphere lattice; M_LR/M_PB, beta and the hand-off loss
+# against total wall time, with a Richardson estimate from the three finest runs.
+IMPACT_CONV_CELLS ?= 1500 1000 750 500
+impact-convergence: tools ## demo impact at 1.5, 1, 0.75, 0.5 km cells: outcomes vs wall time, Richardson (tens of minutes)
+	for c in $(IMPACT_CONV_CELLS); do \
+	  ppc=$$(awk "BEGIN{p = int($$c/500 + 0.999); print (p < 2 ? 2 : p)}"); \
+	  $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=$$c RUN=$(RUNS)/impact-convergence/c$$c \
+	    COARSEN=$$(awk "BEGIN{print int(3000/$$c + 0.5)}") MPM_SETS="--set body[1].ppc=$$ppc" $(DEMO_TIMES) || exit $$?; \
+	done
+	$(PY) $(IMPACT_DIR)/convergence.py $(addprefix $(RUNS)/impact-convergence/c,$(IMPACT_CONV_CELLS)) \
+	  --out $(RUNS)/impact-convergence
+
+# Extreme speeds through every stage (demo settings): 20 km/s and 100 m/s. Each stage must end with
+# exit 0 and finite outputs (or a clean exit 3 with a diagnosis, which fails this target).
+impact-extremes: tools ## 20 km/s and 100 m/s impacts through all stages, checked for exit codes and NaN
+	for v in 20000 100; do \
+	  $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact IMPACT_SPEED=$$v RUN=$(RUNS)/impact-extremes/v$$v \
+	    $(DEMO_SETTINGS) || exit $$?; \
+	done
+	$(PY) $(IMPACT_DIR)/check_runs.py $(RUNS)/impact-extremes/v20000 $(RUNS)/impact-extremes/v100 \
+	  --out $(RUNS)/impact-extremes

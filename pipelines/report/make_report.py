@@ -154,7 +154,7 @@ def classify_h5(path, run):
     if base.startswith("failed_state") or "failed" in base:
         run.failed_states.append(path)
         return
-    if base.startswith("checkpoint"):
+    if base.startswith("checkpoint") or base.endswith("_outflow.h5"):  # outflow: handed off, not a snapshot
         return
     if fmt_ == "mpm-frag.particles":
         run.mpm.append((t, path))
