@@ -1,0 +1,78 @@
+"""Read the outcome of one impact-pipeline run directory (shared by convergence.py and check_runs.py).
+
+A run directory (pipelines/impact/rules.mk) holds analysis.json (ssdem-analyse summary),
+spheres.audit.json (mpm2spheres audit), timing/<stage>.json ({"stage", "wall_s", "exit_code"})
+and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size is read).
+"""
+import json
+import math
+import os
+import re
+
+STAGES = ("fragment", "handoff", "reaccumulate", "analyse")
+
+
+def _load(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def _finite(x):
+    return isinstance(x, (int, float)) and math.isfinite(x)
+
+
+def read_run(run_dir):
+    """Dict of the run's settings, outcomes, stage times and exit codes; missing pieces are None."""
+    r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "M_LR_over_M_PB": None, "beta": None,
+         "bound_mass_fraction": None, "ke_loss": None, "mass_rel_diff": None, "momentum_rel_diff": None,
+         "outflow_particles": None, "spheres": None, "wall_s": {}, "exit_code": {}, "problems": []}
+    vars_path = os.path.join(run_dir, ".vars", "FRAGMENT")
+    try:
+        text = open(vars_path).read()
+        m = re.search(r"grid\.cell_size=([0-9.eE+-]+)", text)
+        r["cell_m"] = float(m.group(1)) if m else None
+        m = re.search(r"body\[1\]\.velocity=\[0,0,-([0-9.eE+-]+)\]", text)
+        r["speed_m_s"] = float(m.group(1)) if m else None
+    except OSError:
+        r["problems"].append(f"{vars_path} missing")
+    for st in STAGES:
+        t = _load(os.path.join(run_dir, "timing", st + ".json"))
+        if t is None:
+            r["problems"].append(f"stage {st}: no timing record (not run?)")
+            continue
+        r["wall_s"][st] = t.get("wall_s")
+        r["exit_code"][st] = t.get("exit_code")
+        if t.get("exit_code") != 0:
+            r["problems"].append(f"stage {st}: exit code {t.get('exit_code')}")
+    an = _load(os.path.join(run_dir, "analysis.json"))
+    if an is None:
+        r["problems"].append("analysis.json missing or unreadable")
+    else:
+        fin = an.get("final", {})
+        for k in ("M_LR_over_M_PB", "beta", "bound_mass_fraction"):
+            r[k] = fin.get(k)
+        for k in ("M_LR_over_M_PB", "bound_mass_fraction"):
+            if not _finite(r[k]):
+                r["problems"].append(f"analysis final.{k} = {r[k]!r} (not finite)")
+        if r["beta"] is not None and not _finite(r["beta"]):
+            r["problems"].append(f"analysis final.beta = {r['beta']!r} (not finite)")
+    au = _load(os.path.join(run_dir, "spheres.audit.json"))
+    if au is None:
+        r["problems"].append("spheres.audit.json missing or unreadable")
+    else:
+        r["ke_loss"] = au.get("kinetic_rel_loss")
+        r["mass_rel_diff"] = au.get("mass_rel_diff")
+        r["momentum_rel_diff"] = au.get("momentum_rel_diff")
+        r["outflow_particles"] = au.get("outflow_particles", 0)
+        r["spheres"] = (au.get("after") or {}).get("count")
+        for k in ("ke_loss", "mass_rel_diff", "momentum_rel_diff"):
+            if not _finite(r[k]):
+                r["problems"].append(f"audit {k} = {r[k]!r} (not finite)")
+    return r
+
+
+def total_wall(r):
+    return sum(v for v in r["wall_s"].values() if _finite(v))
