@@ -48,7 +48,7 @@ double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool wal
 void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps) {
   const double tau = shortest_contact_time(p, sp, walls);
   if (!std::isfinite(tau)) return;
-  if (dt * min_steps > tau) {
+  if (dt * min_steps > tau * (1.0 + 1e-9)) {  // a dt of exactly tau/min_steps is accepted
     std::ostringstream os;
     os << "time.dt = " << dt << " s resolves the shortest contact (tau = " << tau
        << " s for k_n = " << p.kn << " N/m) with only " << tau / dt

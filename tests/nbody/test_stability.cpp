@@ -152,3 +152,43 @@ TEST(Stability, ColdCloudCollapsesToOneRegion) {
   EXPECT_LT(d1.total(), d0.total());              // collisions dissipated
   EXPECT_LT(d1.max_overlap_frac, 0.1);
 }
+
+// A sphere resting on a wall under uniform gravity, strongly damped (e_n = 0.2), its contact
+// resolved by 4 steps: the extrapolated dashpot predictor v_{n+1/2} + h/2 (2a_n - a_{n-1})
+// amplifies the damped mode (linear analysis: |lambda| = 1.88 per step at 4 steps, 1.16 at 6);
+// the pkdgrav predictor v_{n+1/2} + h/2 a_n damps it (|lambda| = 1.0 at 4 steps, 0.70 at 5).
+// This is why contact.predictor = "auto" falls back to pkdgrav below 8 steps per contact.
+TEST(Stability, ExtrapolatedPredictorNeedsResolvedContacts) {
+  const double s = 0.01, rho = 2500;
+  const double m = rho * 4.0 / 3.0 * M_PI * s * s * s;
+  auto settle = [&](bool extrapolated, double steps) {
+    ContactParams p;
+    p.parts = kPartDamping;
+    p.kn = 1e3;
+    p.en = 0.2;
+    Spheres sp;
+    sp.push(0, Vec3(0, 0, s), Vec3::Zero(), Vec3::Zero(), m, s);
+    SimConfig c;
+    c.contacts = true;
+    c.contact = p;
+    c.walls.push_back(Plane{Vec3::Zero(), Vec3(0, 0, 1)});
+    c.uniform_g = Vec3(0, 0, -9.81);
+    c.dt = p.contact_time(m) / steps;
+    c.min_steps_per_contact = 3.0;
+    c.extrapolated_predictor = extrapolated;
+    Simulation sim(sp, c);
+    const double x_eq = m * 9.81 / p.kn;  // static overlap
+    try {
+      for (int k = 0; k < 400; ++k) sim.step();
+    } catch (const common::NumericalError&) {
+      return 1e30;  // ran away past the overlap limit
+    }
+    return std::fabs(s - sim.spheres().x[0].z() - x_eq) / x_eq;
+  };
+  // measured: pkdgrav 4.4e-2 (4 steps, |lambda| ~ 1), 8e-15 (5 .. 10 steps); extrapolated 1.4e3
+  // (4 steps), 1.3e2 (5), 0.80 (6), 8e-15 (8, 10)
+  EXPECT_LT(settle(false, 5.0), 1e-10);  // pkdgrav predictor settles to the static overlap
+  EXPECT_GT(settle(true, 4.0), 10.0);    // extrapolated: grows
+  EXPECT_GT(settle(true, 6.0), 0.1);     // still not settled at 6 steps per contact
+  EXPECT_LT(settle(true, 8.0), 1e-10);   // with >= 8 steps (the auto threshold) it settles
+}
