@@ -90,50 +90,55 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
     carry.push_back(f);
   }
 
-  // 1. Validate and bin particles by sphere cell (counting sort, stable => deterministic).
+  // 1. Validate and bin particles by sphere cell (parallel keys; the first offending particle in
+  //    index order is reported, whatever the thread count).
   std::vector<std::int64_t> key(n);
-  std::vector<std::int64_t> fine_key(n);
+  if (n >= std::size_t(1) << 32) throw common::InputError(file, "/particles", "more than 2^32 particles in one hand-off");
+  std::size_t first_big = n, first_out = n;
+#pragma omp parallel for schedule(static) reduction(min : first_big, first_out)
   for (std::size_t p = 0; p < n; ++p) {
-    const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
-    const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
-    if ((lp.array() > 0.5 * h * (1 + 1e-12)).any())
-      throw common::InputError(file, "/particles/size", where_particle(s, p) + ": particle size exceeds the cell size " + std::to_string(h) + " m");
-    // Stencil bounds without computing weights: uGIMP uses nodes {i-1, i, i+1} or {i, i+1, i+2}
-    // (shape_functions.hpp), linear {i, i+1}.
-    bool inside = true;
+    bool big = false, inside = true;
+    std::int64_t c[3];
     for (int d = 0; d < 3; ++d) {
-      const double xi = (x[d] - g.origin[d]) / h;
+      big = big || 0.5 * s.size[3 * p + d] > 0.5 * h * (1 + 1e-12);
+      // Stencil bounds without computing weights: uGIMP uses nodes {i-1, i, i+1} or {i, i+1, i+2}
+      // (shape_functions.hpp), linear {i, i+1}.
+      const double xi = (s.position[3 * p + d] - g.origin[d]) / h;
       const double fl = std::floor(xi);
       const int i = static_cast<int>(fl);
       const int first = opt.shape == mpmfrag::ShapeKind::linear ? i : (xi - fl <= 0.5 ? i - 1 : i);
       const int count = opt.shape == mpmfrag::ShapeKind::linear ? 2 : 3;
       inside = inside && std::isfinite(xi) && first >= 0 && first + count <= g.shape[d];
+      c[d] = inside ? std::clamp(i, 0, g.shape[d] - 2) / k : 0;
     }
-    if (!inside)
-      throw common::InputError(file, "/particles/position", where_particle(s, p) + " lies outside the grid (its shape-function support leaves it)");
-    Eigen::Vector3i c, f;
-    for (int d = 0; d < 3; ++d) {
-      const int fi = std::clamp(static_cast<int>(std::floor((x[d] - g.origin[d]) / h)), 0, g.shape[d] - 2);
-      f[d] = fi;
-      c[d] = fi / k;
-    }
-    key[p] = cg.key(c);
-    fine_key[p] = f[0] + std::int64_t(g.shape[0] - 1) * (f[1] + std::int64_t(g.shape[1] - 1) * f[2]);
+    if (big) first_big = std::min(first_big, p);
+    if (!inside) first_out = std::min(first_out, p);
+    key[p] = c[0] + std::int64_t(cg.shape[0]) * (c[1] + std::int64_t(cg.shape[1]) * c[2]);
   }
+  if (first_big < n && first_big <= first_out)
+    throw common::InputError(file, "/particles/size", where_particle(s, first_big) + ": particle size exceeds the cell size " + std::to_string(h) + " m");
+  if (first_out < n)
+    throw common::InputError(file, "/particles/position", where_particle(s, first_out) + " lies outside the grid (its shape-function support leaves it)");
   std::vector<std::size_t> start(static_cast<std::size_t>(cg.cells()) + 1, 0);
   for (std::size_t p = 0; p < n; ++p) ++start[key[p] + 1];
   for (std::size_t c = 0; c + 1 < start.size(); ++c) start[c + 1] += start[c];
-  std::vector<std::size_t> order(n);
+  std::vector<std::uint32_t> order(n);  // 32-bit: half the memory traffic of size_t
   {
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
-    for (std::size_t p = 0; p < n; ++p) order[fill[key[p]]++] = p;
+    for (std::size_t p = 0; p < n; ++p) order[fill[key[p]]++] = static_cast<std::uint32_t>(p);
   }
 
   // 2. P2G, parallel over slabs of sphere-cell z layers, two colours so that no two threads
   //    touch the same node; sums run in sorted order, so results do not depend on threads.
   const std::size_t nn = mpmfrag::node_count(g);
   std::vector<double> node(4 * nn, 0.0);  // m, px, py, pz
-  std::vector<WeightStencil> stencil(n);  // by sorted position
+  // Weights are recomputed in the G2P pass rather than cached: a cached stencil is ~90 bytes per
+  // particle of fresh memory (page faults and traffic cost more than the few flops of the weights).
+  auto weights = [&](std::size_t p) {
+    const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
+    const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
+    return weight_stencil(mpmfrag::compute_stencil(opt.shape, g, x, lp));
+  };
   const int layers_per_slab = (3 + k - 1) / k;
   const std::int64_t layer_cells = std::int64_t(cg.shape[0]) * cg.shape[1];
   const int nslab = (cg.shape[2] + layers_per_slab - 1) / layers_per_slab;
@@ -148,12 +153,9 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
       const auto [b, e] = slab_range(sl);
       for (std::size_t q = b; q < e; ++q) {
         const std::size_t p = order[q];
-        const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
-        const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
         const double m = s.mass[p];
         const double* v = &s.velocity[3 * p];
-        stencil[q] = weight_stencil(mpmfrag::compute_stencil(opt.shape, g, x, lp));
-        for_each_weight(stencil[q], g, [&](std::size_t ni, double w) {
+        for_each_weight(weights(p), g, [&](std::size_t ni, double w) {
           double* nd = &node[4 * ni];
           const double mw = m * w;
           nd[0] += mw;
@@ -197,15 +199,34 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   r.map.offset.resize(ns + 1);
   r.map.particle_id.resize(n);
 
-#pragma omp parallel for schedule(dynamic, 64)
+  // Occupied MPM cells are counted per sphere cell (its k^3 fine cells, marked in a per-thread
+  // table that is cleared through the list of marks).
+  std::size_t occupied = 0;
+#pragma omp parallel reduction(+ : occupied)
+  {
+  std::vector<double> fsum(carry.size());
+  std::vector<unsigned char> mark(static_cast<std::size_t>(k) * k * k, 0);
+  std::vector<std::size_t> marked;
+#pragma omp for schedule(dynamic, 64)
   for (std::int64_t si = 0; si < static_cast<std::int64_t>(ns); ++si) {
     const std::int64_t c = cells[si];
+    const std::int64_t cx = c % cg.shape[0], cy = (c / cg.shape[0]) % cg.shape[1], cz = c / (std::int64_t(cg.shape[0]) * cg.shape[1]);
+    const std::int64_t idx[3] = {cx, cy, cz};
     double M = 0.0, P[3] = {0, 0, 0};
-    std::vector<double> fsum(carry.size(), 0.0);
+    std::fill(fsum.begin(), fsum.end(), 0.0);
     for (std::size_t q = start[c]; q < start[c + 1]; ++q) {
       const std::size_t p = order[q];
+      std::size_t local = 0;
+      for (int d = 2; d >= 0; --d) {
+        const int fi = std::clamp(static_cast<int>(std::floor((s.position[3 * p + d] - g.origin[d]) / h)), 0, g.shape[d] - 2);
+        local = local * k + static_cast<std::size_t>(fi - idx[d] * k);
+      }
+      if (!mark[local]) {
+        mark[local] = 1;
+        marked.push_back(local);
+      }
       double vt[3] = {0, 0, 0};
-      for_each_weight(stencil[q], g, [&](std::size_t ni, double w) {
+      for_each_weight(weights(p), g, [&](std::size_t ni, double w) {
         const double* nd = &node[4 * ni];
         vt[0] += w * nd[1];
         vt[1] += w * nd[2];
@@ -217,8 +238,9 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
       for (std::size_t f = 0; f < carry.size(); ++f) fsum[f] += m * carry[f]->values[p];
       r.map.particle_id[q] = s.id[p];
     }
-    const std::int64_t cx = c % cg.shape[0], cy = (c / cg.shape[0]) % cg.shape[1], cz = c / (std::int64_t(cg.shape[0]) * cg.shape[1]);
-    const std::int64_t idx[3] = {cx, cy, cz};
+    occupied += marked.size();
+    for (std::size_t i : marked) mark[i] = 0;
+    marked.clear();
     out.id[si] = static_cast<std::uint64_t>(si);
     out.mass[si] = M;
     for (int d = 0; d < 3; ++d) {
@@ -228,10 +250,9 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
     for (std::size_t f = 0; f < carry.size(); ++f) out.fields[f].values[si] = fsum[f] / M;
     r.map.offset[si] = start[c];
   }
+  }
   r.map.offset[ns] = n;
-
-  std::sort(fine_key.begin(), fine_key.end());
-  r.occupied_mpm_cells = static_cast<std::size_t>(std::unique(fine_key.begin(), fine_key.end()) - fine_key.begin());
+  r.occupied_mpm_cells = occupied;
   return r;
 }
 

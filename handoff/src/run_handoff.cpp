@@ -18,8 +18,6 @@ namespace {
 Invariants invariants_of(const common::ParticleSnapshot& s, const std::vector<std::size_t>& idx,
                          const common::ParticleSnapshot* s2 = nullptr, const std::vector<std::size_t>* idx2 = nullptr,
                          double t = 0.0) {
-  if (!s2 && idx.size() == s.count())  // every particle, in order: no copy
-    return compute_invariants(s.count(), s.position.data(), s.velocity.data(), s.mass.data());
   std::vector<double> x, v, m;
   auto add = [&](const common::ParticleSnapshot& q, const std::vector<std::size_t>& ii, double dt) {
     for (std::size_t i : ii) {
@@ -53,17 +51,28 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
   HandoffOutcome out;
   Audit& a = out.audit;
   a.method = cfg.method;
-  const Selection sel = select_particles(snap, cfg.select, cfg.input);
-  Selection osel;
-  if (outflow) osel = select_particles(*outflow, cfg.select, cfg.outflow);
-  const std::vector<std::size_t> all = all_of(snap), oall = outflow ? all_of(*outflow) : std::vector<std::size_t>{};
-  a.input = invariants_of(snap, all, outflow, outflow ? &oall : nullptr, snap.time);
-  a.dropped = invariants_of(snap, sel.dropped, outflow, outflow ? &osel.dropped : nullptr, snap.time);
-  if (sel.kept.empty())
+  // Without selection rules every particle is handed off: no index lists, no copies.
+  const bool selecting = cfg.select.active();
+  const Selection sel = selecting ? select_particles(snap, cfg.select, cfg.input) : Selection{};
+  if (selecting && sel.kept.empty())
     throw common::InputError(cfg.input, "select", "the selection rules removed every particle");
-  const common::ParticleSnapshot kept_storage = cfg.select.active() ? subset(snap, sel.kept) : common::ParticleSnapshot{};
-  const common::ParticleSnapshot& kept = cfg.select.active() ? kept_storage : snap;
-  a.before = invariants_of(snap, sel.kept, outflow, outflow ? &osel.kept : nullptr, snap.time);
+  Selection osel;
+  if (outflow) osel = selecting ? select_particles(*outflow, cfg.select, cfg.outflow) : Selection{all_of(*outflow), {}};
+  if (outflow) {
+    const std::vector<std::size_t> all = all_of(snap), oall = all_of(*outflow);
+    a.input = invariants_of(snap, all, outflow, &oall, snap.time);
+  } else {
+    a.input = compute_invariants(snap.count(), snap.position.data(), snap.velocity.data(), snap.mass.data());
+  }
+  a.dropped = invariants_of(snap, sel.dropped, outflow, outflow ? &osel.dropped : nullptr, snap.time);
+  const common::ParticleSnapshot kept_storage = selecting ? subset(snap, sel.kept) : common::ParticleSnapshot{};
+  const common::ParticleSnapshot& kept = selecting ? kept_storage : snap;
+  if (selecting || outflow) {
+    const std::vector<std::size_t> all = selecting ? std::vector<std::size_t>{} : all_of(snap);
+    a.before = invariants_of(snap, selecting ? sel.kept : all, outflow, outflow ? &osel.kept : nullptr, snap.time);
+  } else {
+    a.before = a.input;
+  }
 
   out.result = project_to_spheres(kept, cfg.projection, cfg.input);
   if (outflow && !osel.kept.empty()) {

@@ -14,6 +14,7 @@ Selection select_particles(const common::ParticleSnapshot& s, const SelectionRul
   if (rules.min_damage > 0.0 && !damage)
     throw common::InputError(file, "select.min_damage",
                              "the snapshot has no /particles/damage dataset to select on");
+  sel.kept.reserve(s.count());
   for (std::size_t i = 0; i < s.count(); ++i) {
     bool keep = true;
     if (rules.min_damage > 0.0 && damage->values[i] < rules.min_damage) keep = false;

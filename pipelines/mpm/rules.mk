@@ -25,7 +25,7 @@ mpm-convergence: ## MMS + Tillotson shock at 4+ resolutions: error vs wall time 
 mpm-bench: ## mpm-frag throughput: us per particle-step per core, 1 and 2 threads, bytes/particle
 	cmake --build $(BUILD) --target mpm_bench -j2
 	mkdir -p $(RUNS)/mpm-bench
-	OMP_WAIT_POLICY=$${OMP_WAIT_POLICY:-passive} $(BUILD)/tests/mpm/mpm_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
+	OMP_WAIT_POLICY=$${OMP_WAIT_POLICY:-passive} $(BUILD)/tests/mpm/mpm_bench --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
 	  --benchmark_out=$(RUNS)/mpm-bench/bench.json --benchmark_out_format=json
 	$(PY) $(MPM_DIR)/bench_table.py $(RUNS)/mpm-bench/bench.json $(RUNS)/mpm-bench
 

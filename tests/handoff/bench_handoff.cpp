@@ -1,18 +1,29 @@
 // Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, random velocities),
 // projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s.
+// BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
+// write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
+// (pipelines/handoff/rules.mk runs dd beside it).
 #include <benchmark/benchmark.h>
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <filesystem>
+
+#include "common/provenance.hpp"
 #include "handoff/run_handoff.hpp"
 #include "particle_sets.hpp"
 
-static void BM_HandOff(benchmark::State& state) {
-  const int threads = static_cast<int>(state.range(0));
-  // 50^3 cells filled with 2^3 particles each = 10^6 particles.
+// 50^3 cells filled with 2^3 particles each = 10^6 particles.
+static const common::ParticleSnapshot& snapshot() {
   static const auto s = testsets::filled_box(56, 1.0, 3, 50, 2, 1.0, [](const Eigen::Vector3d& x) {
     return Eigen::Vector3d(std::sin(x.y()), std::cos(x.z()), 3000.0 + x.x());
   });
+  return s;
+}
+
+static void BM_HandOff(benchmark::State& state) {
+  const int threads = static_cast<int>(state.range(0));
+  const auto& s = snapshot();
   handoff::HandoffConfig c;
   c.input = "bench";
   c.method = "paper";
@@ -30,4 +41,31 @@ static void BM_HandOff(benchmark::State& state) {
   state.counters["peak_rss_MB"] = ru.ru_maxrss / 1024.0;  // whole process, input arrays included
 }
 BENCHMARK(BM_HandOff)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static std::string bench_file() {
+  return (std::filesystem::temp_directory_path() / "bench_handoff_snapshot.h5").string();
+}
+
+static void BM_WriteSnapshot(benchmark::State& state) {
+  const auto& s = snapshot();
+  const common::Provenance prov{"bench", "0", "0", "bench", ""};
+  for (auto _ : state) common::write_particle_snapshot(bench_file(), s, prov);
+  const double mb = std::filesystem::file_size(bench_file()) / 1e6;
+  state.counters["file_MB"] = mb;
+  state.counters["MB_per_s"] = benchmark::Counter(mb, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_WriteSnapshot)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
+
+static void BM_ReadSnapshot(benchmark::State& state) {
+  if (!std::filesystem::exists(bench_file()))
+    common::write_particle_snapshot(bench_file(), snapshot(), common::Provenance{"bench", "0", "0", "bench", ""});
+  for (auto _ : state) {
+    auto r = common::read_particle_snapshot(bench_file());
+    benchmark::DoNotOptimize(r.position.data());
+  }
+  const double mb = std::filesystem::file_size(bench_file()) / 1e6;
+  state.counters["file_MB"] = mb;
+  state.counters["MB_per_s"] = benchmark::Counter(mb, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_ReadSnapshot)->Unit(benchmark::kMillisecond)->UseRealTime()->Iterations(3);
 BENCHMARK_MAIN();
