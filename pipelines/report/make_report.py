@@ -396,7 +396,7 @@ def weighted_median(x, m):
     return np.asarray(out)
 
 
-def cutaway(ax, x, m, d, r, centre, frame, half_width, title):
+def cutaway(ax, x, m, d, r, centre, frame, half_width, title, dmax=1.0):
     u, e2, n = frame
     rel = x - centre
     h = rel @ n
@@ -422,7 +422,7 @@ def cutaway(ax, x, m, d, r, centre, frame, half_width, title):
     rr = (r[sel] if r is not None else np.full(a.size, half_width))
     size = np.clip((2 * rr * scale) ** 2, 0.5, 400)
     if d is not None:
-        sc = ax.scatter(a, b, s=size, c=d[sel], cmap="inferno", vmin=0, vmax=1, marker="o", linewidths=0)
+        sc = ax.scatter(a, b, s=size, c=d[sel], cmap="inferno", vmin=0, vmax=dmax, marker="o", linewidths=0)
     else:
         ax.scatter(a, b, s=size, color="0.6", marker="o", linewidths=0)
         sc = None
@@ -446,16 +446,21 @@ def snapshot_panel_figure(items, kind, frame, path, suptitle, centre_mode):
     fig, axes = plt.subplots(1, len(chosen), figsize=(3.4 * len(chosen) + 0.8, 3.8), squeeze=False)
     sc = None
     missing = []
-    for ax, (t, p) in zip(axes[0], chosen):
-        t, x, m, d, r = read_items(p, kind)
+    data = [read_items(p, kind) for _, p in chosen]
+    # one colour scale for all panels, up to the largest damage shown (the Tonge-Ramesh model caps
+    # D at D_max = 0.2, so a fixed 0..1 scale would leave a fully damaged body dark)
+    dmax = max([float(np.max(d)) for _, _, _, d, _ in data if d is not None and d.size] + [0.0])
+    dmax = dmax if dmax > 0 else 1.0
+    for ax, (_, p), (t, x, m, d, r) in zip(axes[0], chosen, data):
         if d is None:
             missing.append(os.path.basename(p))
         centre = (m[:, None] * x).sum(0) / m.sum() if centre_mode == "com" else weighted_median(x, m)
         # slab of 1.5 item spacings: always at least one lattice layer, whatever the rounding
         hw = 0.75 * float(np.median(2 * r)) if r is not None and r.size else 1.0
-        sc = cutaway(ax, x, m, d, r, centre, frame, hw, f"t = {fmt(t, 4)} s" + ("" if d is not None else " (no damage)")) or sc
+        sc = cutaway(ax, x, m, d, r, centre, frame, hw, f"t = {fmt(t, 4)} s" + ("" if d is not None else " (no damage)"),
+                     dmax) or sc
     if sc is not None:
-        fig.colorbar(sc, ax=axes[0].tolist(), shrink=0.8, label="damage")
+        fig.colorbar(sc, ax=axes[0].tolist(), shrink=0.8, label=f"damage (scale 0 to {dmax:.3g})")
     fig.suptitle(suptitle, fontsize=10)
     save_fig(fig, path)
     return [t for t, _ in chosen], missing
