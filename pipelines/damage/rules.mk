@@ -44,3 +44,16 @@ damage-brazilian-convergence: ## Brazilian strength vs resolution / Courant vs w
 	$(DAMAGE_DIR)/run_brazilian.sh $(BUILD)/tests/damage/damage_brazilian $(RUNS)/damage-brazilian-convergence 2e-4 0.15 1000
 	$(DAMAGE_DIR)/run_brazilian.sh $(BUILD)/tests/damage/damage_brazilian $(RUNS)/damage-brazilian-convergence 1e-4 0.3 1000
 	$(PY) $(DAMAGE_DIR)/plot_convergence.py $(RUNS)/damage-brazilian-convergence
+
+# Flaw sampling: per-particle Poisson draws (El Mir, default) against the expected bin densities
+# (flaw_sampling = "expected"), at each cell size of DAMAGE_BZ_SAMPLING_CELLS (add 1e-4 for the
+# 0.1 mm runs: about an hour each sampling on 2 cores). Table + plot in runs/damage-brazilian-sampling.
+DAMAGE_BZ_SAMPLING_CELLS ?= 4e-4 2e-4
+DAMAGE_BZ_SAMPLING_RATES ?= 100 200 350 600 1000
+damage-brazilian-sampling: ## Brazilian strength vs rate with Poisson and expected flaw sampling, several cell sizes
+	cmake --build $(BUILD) --target damage_brazilian -j2
+	for s in poisson expected; do rm -f $(RUNS)/damage-brazilian-sampling/$$s/summary.csv; \
+	  for h in $(DAMAGE_BZ_SAMPLING_CELLS); do SAMPLING=$$s $(DAMAGE_DIR)/run_brazilian.sh $(BUILD)/tests/damage/damage_brazilian \
+	    $(RUNS)/damage-brazilian-sampling/$$s $$h 0.3 $(DAMAGE_BZ_SAMPLING_RATES) || exit $$?; done; done
+	$(PY) $(DAMAGE_DIR)/plot_sampling.py $(RUNS)/damage-brazilian-sampling \
+	  poisson=$(RUNS)/damage-brazilian-sampling/poisson expected=$(RUNS)/damage-brazilian-sampling/expected
