@@ -50,7 +50,11 @@ inline void read_header(hid_t f, const std::string& file, const char* format, st
     throw InputError(file, "/format_version", "version " + std::to_string(v) +
                                                   " is newer than this tool reads (" + std::to_string(version) +
                                                   "); update the tool");
-  if (v < 1) throw InputError(file, "/format_version", "invalid version " + std::to_string(v));
+  // Version 1 is the first released layout; anything below it predates the file contract.
+  if (v < 1)
+    throw InputError(file, "/format_version", "version " + std::to_string(v) +
+                                                  " is older than the oldest this tool reads (1); regenerate the "
+                                                  "file with the current tools");
   time = h5::read_attr_double(f, "time", file);
   step = h5::read_attr_int(f, "step", file);
   if (!std::isfinite(time)) throw InputError(file, "/time", "non-finite time");

@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include "analysis/analyse_scene.hpp"
+#include "common/h5.hpp"
 #include "common/particle_file.hpp"
 #include "common/sphere_file.hpp"
 #include "sphere_configs.hpp"
@@ -138,6 +139,17 @@ TEST(AnalyseTool, BadInputsExitWithCodeTwoNamingFileAndKey) {
   r = run((dir / "s.h5").string() + " --set 'damage.axis=[1,0]' -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("damage.axis"), std::string::npos) << r.out;
+  // a sphere file of an older format version
+  common::write_sphere_set((dir / "old.h5").string(), snapshot(0.0), prov());
+  {
+    common::h5::quiet_errors();
+    common::h5::Handle f(H5Fopen((dir / "old.h5").c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+    H5Adelete(f, "format_version");
+    common::h5::write_attr(f, "format_version", std::int64_t{0});
+  }
+  r = run((dir / "old.h5").string() + " -o " + (dir / "x").string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find((dir / "old.h5").string() + ": /format_version: version 0 is older"), std::string::npos) << r.out;
   // unknown scene key
   r = run((dir / "s.h5").string() + " --set fof.linking=0.3 -o " + (dir / "x").string());
   EXPECT_EQ(r.code, 2);

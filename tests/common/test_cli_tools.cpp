@@ -134,6 +134,10 @@ TEST(CliTools, SsdemGravRejectsMalformedSphereInputWithExit2) {
          H5Adelete(f, "format_version");
          h5::write_attr(f, "format_version", std::int64_t{7});
        }, "/format_version: version 7 is newer"},
+      {"older version", [](hid_t f) {
+         H5Adelete(f, "format_version");
+         h5::write_attr(f, "format_version", std::int64_t{0});
+       }, "/format_version: version 0 is older than the oldest this tool reads (1)"},
   };
   for (const auto& c : cases) {
     testutil::TempDir d;

@@ -100,10 +100,18 @@ TEST(Mpm2SpheresTool, BadInputsExitTwoAndWriteNothing) {
   auto nan = testsets::uniform(100, 12, 1.0, 2.5, 9.5, 0.5);
   nan.velocity[7] = std::numeric_limits<double>::quiet_NaN();
   common::write_particle_snapshot(d.f("nan.h5"), nan, prov());
+  // A snapshot of an older format version (0 predates the contract).
+  const std::string old = good_snapshot(d, "old.h5");
+  {
+    common::h5::quiet_errors();
+    common::h5::Handle f(H5Fopen(old.c_str(), H5F_ACC_RDWR, H5P_DEFAULT));
+    H5Adelete(f, "format_version");
+    common::h5::write_attr(f, "format_version", std::int64_t{0});
+  }
   // A sphere file given where a snapshot is expected.
   ASSERT_EQ(run("-i " + good + " -o " + d.f("spheres.h5")), 0);
 
-  for (const char* bad : {"nogrid.h5", "empty.h5", "outside.h5", "nan.h5", "spheres.h5", "missing.h5"}) {
+  for (const char* bad : {"nogrid.h5", "empty.h5", "outside.h5", "nan.h5", "old.h5", "spheres.h5", "missing.h5"}) {
     EXPECT_EQ(run("-i " + d.f(bad) + " -o " + d.f("result.h5") + " --ss " + d.f("result.ss")), 2) << bad;
     for (const char* out : {"result.h5", "result.xmf", "result.audit.json", "result.ss", "result.ss.json"})
       EXPECT_FALSE(fs::exists(d.f(out))) << bad << ": " << out;
@@ -123,6 +131,11 @@ TEST(Mpm2SpheresTool, BadInputsExitTwoAndWriteNothing) {
   EXPECT_NE(msg.find(d.f("nan.h5") + ": /particles/velocity: non-finite value (NaN or Inf) at row 2"),
             std::string::npos)
       << msg;
+  const auto [rc_old, msg_old] = run_capture("-i " + old + " -o " + d.f("r.h5"));
+  EXPECT_EQ(rc_old, 2);
+  EXPECT_NE(msg_old.find(old + ": /format_version: version 0 is older than the oldest this tool reads (1)"),
+            std::string::npos)
+      << msg_old;
 }
 
 TEST(Mpm2SpheresTool, EnergyThresholdExitsThreeAndKeepsExistingResult) {
