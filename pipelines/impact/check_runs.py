@@ -31,14 +31,14 @@ def main(argv=None):
                 r["problems"].append(f"audit {k} = {r[k]:.3g} > 1e-10")
         failed |= bool(r["problems"])
         rows.append(r)
-    cols = ["run", "speed_m_s", "cell_m", "M_LR_over_M_PB", "bound_mass_fraction", "beta", "ke_loss",
+    cols = ["run", "speed_m_s", "cell_m", "M_LR_over_M_PB", "bound_mass_fraction", "beta", "ke_loss", "mpm_energy_change",
             "mass_rel_diff", "momentum_rel_diff", "outflow_particles", "spheres", "total_wall_s", "status"]
     with open(os.path.join(a.out, "extremes.csv"), "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(cols)
         for r in rows:
             w.writerow([r["run"], r["speed_m_s"], r["cell_m"], r["M_LR_over_M_PB"], r["bound_mass_fraction"],
-                        r["beta"], r["ke_loss"], r["mass_rel_diff"], r["momentum_rel_diff"],
+                        r["beta"], r["ke_loss"], r["mpm_energy_change"], r["mass_rel_diff"], r["momentum_rel_diff"],
                         r["outflow_particles"], r["spheres"], f"{total_wall(r):.1f}",
                         "ok" if not r["problems"] else "; ".join(r["problems"])])
 
@@ -46,14 +46,15 @@ def main(argv=None):
         return "n/a" if x is None else (f.format(x) if isinstance(x, float) else str(x))
 
     md = ["# Impacts at extreme speeds through every stage", "",
-          "| speed (m/s) | stage exits | M_LR/M_PB | bound fraction | beta | hand-off KE loss | "
+          "| speed (m/s) | stage exits | M_LR/M_PB | bound fraction | beta | hand-off KE loss | MPM energy change | "
           "mass / momentum error | outflow particles | spheres | wall (s) | status |",
-          "|---|---|---|---|---|---|---|---|---|---|---|"]
+          "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         exits = " ".join(f"{s[:4]}={r['exit_code'].get(s, '-')}" for s in STAGES)
         md.append(f"| {fmt(r['speed_m_s'], '{:.0f}')} | {exits} | {fmt(r['M_LR_over_M_PB'])} | "
                   f"{fmt(r['bound_mass_fraction'])} | {fmt(r['beta'])} | "
                   f"{fmt(100 * r['ke_loss'] if isinstance(r['ke_loss'], float) else None, '{:.2f} %')} | "
+                  f"{fmt(100 * r['mpm_energy_change'] if isinstance(r['mpm_energy_change'], float) else None, '{:+.1f} %')} | "
                   f"{fmt(r['mass_rel_diff'], '{:.1e}')} / {fmt(r['momentum_rel_diff'], '{:.1e}')} | "
                   f"{fmt(r['outflow_particles'])} | {fmt(r['spheres'])} | {total_wall(r):.0f} | "
                   f"{'ok' if not r['problems'] else '; '.join(r['problems'])} |")

@@ -25,7 +25,8 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run_summary import read_run, total_wall  # noqa: E402
 
-QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "hand-off KE loss"))
+QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "hand-off KE loss"),
+              ("mpm_energy_change", "MPM energy change"))
 
 
 def richardson(h, f):
@@ -69,16 +70,16 @@ def main(argv=None):
     h = [r["cell_m"] for r in runs]
     with open(os.path.join(a.out, "convergence.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["cell_m", "particles_note", "M_LR_over_M_PB", "beta", "ke_loss", "spheres",
+        w.writerow(["cell_m", "run", "M_LR_over_M_PB", "beta", "ke_loss", "mpm_energy_change", "spheres",
                     "wall_fragment_s", "wall_handoff_s", "wall_reaccumulate_s", "wall_analyse_s", "wall_total_s"])
         for r in runs:
-            w.writerow([r["cell_m"], r["run"], r["M_LR_over_M_PB"], r["beta"], r["ke_loss"], r["spheres"],
+            w.writerow([r["cell_m"], r["run"], r["M_LR_over_M_PB"], r["beta"], r["ke_loss"], r["mpm_energy_change"], r["spheres"],
                         r["wall_s"].get("fragment"), r["wall_s"].get("handoff"), r["wall_s"].get("reaccumulate"),
                         r["wall_s"].get("analyse"), f"{total_wall(r):.1f}"])
     md = ["# Impact chain: outcomes against MPM resolution and wall time", "",
           "Same impact, same 3 km spheres in the N-body stage; only the MPM cell size changes.", "",
-          "| cell (m) | M_LR/M_PB | beta | hand-off KE loss | spheres | wall: fragment / hand-off / N-body / analyse (s) | total (s) |",
-          "|---|---|---|---|---|---|---|"]
+          "| cell (m) | M_LR/M_PB | beta | hand-off KE loss | MPM energy change | spheres | wall: fragment / hand-off / N-body / analyse (s) | total (s) |",
+          "|---|---|---|---|---|---|---|---|"]
 
     def num(x, f="{:.4f}"):
         return "n/a" if x is None else f.format(x)
@@ -86,7 +87,8 @@ def main(argv=None):
     for r in runs:
         ws = r["wall_s"]
         md.append(f"| {num(r['cell_m'], '{:.0f}')} | {num(r['M_LR_over_M_PB'])} | {num(r['beta'], '{:.3f}')} | "
-                  f"{num(100 * r['ke_loss'] if r['ke_loss'] is not None else None, '{:.2f} %')} | {r['spheres']} | "
+                  f"{num(100 * r['ke_loss'] if r['ke_loss'] is not None else None, '{:.2f} %')} | "
+                  f"{num(100 * r['mpm_energy_change'] if r['mpm_energy_change'] is not None else None, '{:+.1f} %')} | {r['spheres']} | "
                   + " / ".join(num(ws.get(s), "{:.1f}") for s in ("fragment", "handoff", "reaccumulate", "analyse"))
                   + f" | {total_wall(r):.1f} |")
     md += ["", "| quantity | finest run | extrapolated (h -> 0) | observed order p | finest run's distance to it | note |",
@@ -116,7 +118,7 @@ def main(argv=None):
     except ImportError:
         print("matplotlib missing: no plot", file=sys.stderr)
         return 0
-    fig, axs = plt.subplots(1, 3, figsize=(13, 4))
+    fig, axs = plt.subplots(1, 4, figsize=(17, 4))
     wall = [total_wall(r) for r in runs]
     for ax, (key, label) in zip(axs, QUANTITIES):
         vals = [r[key] for r in runs]

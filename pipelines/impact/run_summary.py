@@ -1,7 +1,8 @@
 """Read the outcome of one impact-pipeline run directory (shared by convergence.py and check_runs.py).
 
 A run directory (pipelines/impact/rules.mk) holds analysis.json (ssdem-analyse summary),
-spheres.audit.json (mpm2spheres audit), timing/<stage>.json ({"stage", "wall_s", "exit_code"})
+spheres.audit.json (mpm2spheres audit), fragment/frag_series.csv (MPM energy history),
+timing/<stage>.json ({"stage", "wall_s", "exit_code"})
 and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size is read).
 """
 import json
@@ -28,7 +29,8 @@ def read_run(run_dir):
     """Dict of the run's settings, outcomes, stage times and exit codes; missing pieces are None."""
     r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "M_LR_over_M_PB": None, "beta": None,
          "bound_mass_fraction": None, "ke_loss": None, "mass_rel_diff": None, "momentum_rel_diff": None,
-         "outflow_particles": None, "spheres": None, "wall_s": {}, "exit_code": {}, "problems": []}
+         "outflow_particles": None, "spheres": None, "mpm_energy_change": None, "wall_s": {}, "exit_code": {},
+         "problems": []}
     vars_path = os.path.join(run_dir, ".vars", "FRAGMENT")
     try:
         text = open(vars_path).read()
@@ -59,6 +61,15 @@ def read_run(run_dir):
                 r["problems"].append(f"analysis final.{k} = {r[k]!r} (not finite)")
         if r["beta"] is not None and not _finite(r["beta"]):
             r["problems"].append(f"analysis final.beta = {r['beta']!r} (not finite)")
+    # MPM energy conservation: (E_end - E_0)/E_0 of kinetic + internal (removed particles included)
+    try:
+        with open(os.path.join(run_dir, "fragment", "frag_series.csv")) as f:
+            rows = [ln.strip().split(",") for ln in f if ln.strip()]
+        col = rows[0].index("total_J")
+        e0, e1 = float(rows[1][col]), float(rows[-1][col])
+        r["mpm_energy_change"] = (e1 - e0) / e0 if e0 else None
+    except (OSError, ValueError, IndexError):
+        r["problems"].append("fragment/frag_series.csv missing or unreadable")
     au = _load(os.path.join(run_dir, "spheres.audit.json"))
     if au is None:
         r["problems"].append("spheres.audit.json missing or unreadable")
