@@ -143,10 +143,10 @@ impact-print: ## print the stage commands without running them
 DART_SETTINGS = FRAGMENT_SCENE=$(IMPACT_DIR)/dart/fragment.toml NBODY_SCENE=$(IMPACT_DIR)/dart/reaccumulate.toml \
   TARGET_DIAMETER=160 IMPACT_SPEED=6145 DOMAIN_FACTOR=2 'MPM_SETS=--set body[1].ppc=8' \
   'HANDOFF_SETS=--set select.max_speed=1000'
-dart: tools ## DART-like impact on a 160 m basalt moonlet: 2 m cells, 1 m impactor, 0.2 s MPM, 2 h N-body (hours on 2 cores)
+dart: tools ## DART-like impact on a 160 m moonlet, impactor resolved: 1 m cells, 2 m impactor, 0.2 s MPM (~2e6 particles, ~8 core-hours)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact $(DART_SETTINGS) RUN=$(RUNS)/dart \
-	  CELL=2 IMPACTOR_DIAMETER=1 MPM_TIME=0.2 SNAP_INTERVAL=0.04 COARSEN=2 NBODY_TIME=7200 \
-	  'NBODY_TIMES=[600.0, 1800.0, 3600.0, 7200.0]'
+	  CELL=1 IMPACTOR_DIAMETER=2 MPM_TIME=0.2 SNAP_INTERVAL=0.04 COARSEN=4 NBODY_TIME=7200 \
+	  'NBODY_TIMES=[600.0, 1800.0, 3600.0, 7200.0]' 'MPM_SETS=--set body[1].ppc=4'
 dart-demo: tools ## DART-like impact at demo resolution: 5 m cells, 2 m impactor, 0.1 s MPM, 30 min N-body (minutes)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact $(DART_SETTINGS) RUN=$(RUNS)/dart-demo \
 	  CELL=5 IMPACTOR_DIAMETER=2 MPM_TIME=0.1 SNAP_INTERVAL=0.02 COARSEN=2 NBODY_TIME=1800 \
