@@ -50,6 +50,22 @@ def main():
         lo, hi = band(eff)
         md.append(f"| {lab} | {h * 1e3:.2g} | {nom:.0f} | {eff:.1f} | {st:.1f} | {lo:.1f}-{hi:.1f} | "
                   f"{st / (0.5 * (lo + hi)):.2f} | {steps} | {n} | {wall:.0f} |")
+    # sigma_t at fixed effective rates (log-log interpolation inside each series; no extrapolation)
+    fixed = (30.0, 100.0, 200.0)
+    md += ["", "sigma_t (MPa) at fixed effective rates, interpolated log-log within each series "
+           "(n/a outside its range):", "",
+           "| sampling | cell (mm) | " + " | ".join(f"{r:.0f} 1/s" for r in fixed) + " |",
+           "|---|---|" + "---|" * len(fixed)]
+    for lab in sorted({r[0] for r in runs}):
+        for h in sorted({r[1] for r in runs if r[0] == lab}, reverse=True):
+            sel = sorted((r[4], r[5]) for r in runs if r[0] == lab and r[1] == h)
+            lr, ls = np.log([e for e, _ in sel]), np.log([v for _, v in sel])
+            cells = []
+            for rate in fixed:
+                x = np.log(rate)
+                cells.append(f"{np.exp(np.interp(x, lr, ls)):.1f}" if lr[0] <= x <= lr[-1] else "n/a")
+            md.append(f"| {lab} | {h * 1e3:.2g} | " + " | ".join(cells) + " |")
+    md.append("| band [C] | | " + " | ".join(f"{band(r)[0]:.1f}-{band(r)[1]:.1f}" for r in fixed) + " |")
     with open(os.path.join(out, "sampling.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     print("\n".join(md))
