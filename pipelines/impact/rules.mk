@@ -154,11 +154,12 @@ dart-demo: tools ## DART-like impact at demo resolution: 5 m cells, 2 m impactor
 	  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
 
 # ---- studies of the whole chain ----
-# Resolution: the demo impact at four MPM cell sizes with the same 3 km spheres (COARSEN = 3 km / CELL),
+# Resolution: the demo impact at five MPM cell sizes with the same 3 km spheres (COARSEN = 3 km / CELL;
+# cells whose lattice puts an impactor and a target particle in one cell, e.g. 1500 m, are refused),
 # so the N-body stage starts from the same sphere lattice; M_LR/M_PB, beta and the hand-off loss
 # against total wall time, with a Richardson estimate from the three finest runs.
-IMPACT_CONV_CELLS ?= 1500 1000 750 500
-impact-convergence: tools ## demo impact at 1.5, 1, 0.75, 0.5 km cells: outcomes vs wall time, Richardson (tens of minutes)
+IMPACT_CONV_CELLS ?= 1000 750 600 500 375
+impact-convergence: tools ## demo impact at 1000, 750, 600, 500, 375 m cells: outcomes vs wall time, Richardson (~15 min)
 	for c in $(IMPACT_CONV_CELLS); do \
 	  ppc=$$(awk "BEGIN{p = int($$c/500 + 0.999); print (p < 2 ? 2 : p)}"); \
 	  $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=$$c RUN=$(RUNS)/impact-convergence/c$$c \
