@@ -6,6 +6,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/huge_pages.hpp"
 #include "common/status.hpp"
 
 namespace handoff {
@@ -92,7 +93,9 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
 
   // 1. Validate and bin particles by sphere cell (parallel keys; the first offending particle in
   //    index order is reported, whatever the thread count).
-  std::vector<std::int64_t> key(n);
+  // Work arrays on transparent huge pages (common/huge_pages.hpp): first-touch faults dominate a
+  // one-shot call otherwise.
+  common::huge_vector<std::int64_t> key(n);
   if (n >= std::size_t(1) << 32) throw common::InputError(file, "/particles", "more than 2^32 particles in one hand-off");
   std::size_t first_big = n, first_out = n;
 #pragma omp parallel for schedule(static) reduction(min : first_big, first_out)
@@ -122,7 +125,7 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   std::vector<std::size_t> start(static_cast<std::size_t>(cg.cells()) + 1, 0);
   for (std::size_t p = 0; p < n; ++p) ++start[key[p] + 1];
   for (std::size_t c = 0; c + 1 < start.size(); ++c) start[c + 1] += start[c];
-  std::vector<std::uint32_t> order(n);  // 32-bit: half the memory traffic of size_t
+  common::huge_vector<std::uint32_t> order(n);  // 32-bit: half the memory traffic of size_t
   {
     std::vector<std::size_t> fill(start.begin(), start.end() - 1);
     for (std::size_t p = 0; p < n; ++p) order[fill[key[p]]++] = static_cast<std::uint32_t>(p);
@@ -131,7 +134,7 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   // 2. P2G, parallel over slabs of sphere-cell z layers, two colours so that no two threads
   //    touch the same node; sums run in sorted order, so results do not depend on threads.
   const std::size_t nn = mpmfrag::node_count(g);
-  std::vector<double> node(4 * nn, 0.0);  // m, px, py, pz
+  common::huge_vector<double> node(4 * nn, 0.0);  // m, px, py, pz
   // Weights are recomputed in the G2P pass rather than cached: a cached stencil is ~90 bytes per
   // particle of fresh memory (page faults and traffic cost more than the few flops of the weights).
   auto weights = [&](std::size_t p) {

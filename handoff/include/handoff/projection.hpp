@@ -35,6 +35,7 @@
 #include <string>
 #include <vector>
 
+#include "common/huge_pages.hpp"
 #include "common/particle_file.hpp"
 #include "common/sphere_file.hpp"
 #include "mpm/shape_functions.hpp"
@@ -50,7 +51,7 @@ struct ProjectionOptions {
 /// CSR map sphere -> particle ids: sphere s holds particle_id[offset[s] .. offset[s+1]).
 struct SphereParticleMap {
   std::vector<std::uint64_t> offset;
-  std::vector<std::uint64_t> particle_id;
+  common::huge_vector<std::uint64_t> particle_id;  // one per particle: on huge pages
 };
 
 struct ProjectionResult {
