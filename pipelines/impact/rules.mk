@@ -159,7 +159,7 @@ dart-demo: tools ## DART-like impact at demo resolution: 5 m cells, 2 m impactor
 # so the N-body stage starts from the same sphere lattice; M_LR/M_PB, beta and the hand-off loss
 # against total wall time, with a Richardson estimate from the three finest runs.
 IMPACT_CONV_CELLS ?= 1000 750 600 500 375
-impact-convergence: tools ## demo impact at 1000, 750, 600, 500, 375 m cells: outcomes vs wall time, Richardson (~15 min)
+impact-convergence: tools ## demo impact at 1000, 750, 600, 500, 375 m cells: outcomes vs wall time, Richardson (~22 min)
 	for c in $(IMPACT_CONV_CELLS); do \
 	  ppc=$$(awk "BEGIN{p = int($$c/500 + 0.999); print (p < 2 ? 2 : p)}"); \
 	  $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=$$c RUN=$(RUNS)/impact-convergence/c$$c \
