@@ -10,6 +10,8 @@
 #include <filesystem>
 
 #include "common/provenance.hpp"
+#include "handoff/invariants.hpp"
+#include "handoff/projection.hpp"
 #include "handoff/run_handoff.hpp"
 #include "particle_sets.hpp"
 
@@ -41,6 +43,31 @@ static void BM_HandOff(benchmark::State& state) {
   state.counters["peak_rss_MB"] = ru.ru_maxrss / 1024.0;  // whole process, input arrays included
 }
 BENCHMARK(BM_HandOff)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The two phases of BM_HandOff on their own (one thread): the projection (binning, P2G, G2P, cell
+// averages, id map) and one audit pass over the particles (compensated sums of M, X, P, K, L).
+static void BM_Projection(benchmark::State& state) {
+  const auto& s = snapshot();
+  handoff::ProjectionOptions opt;
+  omp_set_num_threads(1);
+  for (auto _ : state) {
+    auto r = handoff::project_to_spheres(s, opt, "bench");
+    benchmark::DoNotOptimize(r.spheres.velocity.data());
+  }
+  state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_Projection)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_AuditPass(benchmark::State& state) {
+  const auto& s = snapshot();
+  omp_set_num_threads(1);
+  for (auto _ : state) {
+    auto inv = handoff::compute_invariants(s.count(), s.position.data(), s.velocity.data(), s.mass.data());
+    benchmark::DoNotOptimize(inv.mass);
+  }
+  state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_AuditPass)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static std::string bench_file() {
   return (std::filesystem::temp_directory_path() / "bench_handoff_snapshot.h5").string();
