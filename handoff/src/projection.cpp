@@ -136,7 +136,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   const std::size_t nn = mpmfrag::node_count(g);
   common::huge_vector<double> node(4 * nn, 0.0);  // m, px, py, pz
   // Weights are recomputed in the G2P pass rather than cached: a cached stencil is ~90 bytes per
-  // particle of fresh memory (page faults and traffic cost more than the few flops of the weights).
+  // particle of fresh memory, which cost more than the few flops of the weights when measured with
+  // 4 KiB pages (not re-measured since the work arrays moved to huge pages).
   auto weights = [&](std::size_t p) {
     const Eigen::Vector3d x(s.position[3 * p], s.position[3 * p + 1], s.position[3 * p + 2]);
     const Eigen::Vector3d lp(0.5 * s.size[3 * p], 0.5 * s.size[3 * p + 1], 0.5 * s.size[3 * p + 2]);
