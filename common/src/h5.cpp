@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "common/huge_pages.hpp"
 #include "common/status.hpp"
 
 namespace common::h5 {
@@ -67,7 +68,8 @@ std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std:
       (rows < 0 || (nd >= 1 && d[0] == static_cast<hsize_t>(rows)));
   if (!shape_ok)
     throw InputError(file, name, "wrong shape " + shape_str(d) + ", expected " + expect_str(rows, cols));
-  std::vector<T> out(nd >= 1 ? d[0] * cols : 0);
+  std::vector<T> out;
+  common::resize_huge(out, nd >= 1 ? d[0] * cols : 0);  // large datasets: fewer first-touch faults
   if (!out.empty() && H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
     throw InputError(file, name, "cannot read dataset (truncated or corrupt file?)");
   return out;

@@ -19,7 +19,11 @@ std::string num(double x) {
   o << x;
   return o.str();
 }
-std::string vec(const Eigen::Vector3d& v) { return "[" + num(v[0]) + ", " + num(v[1]) + ", " + num(v[2]) + "]"; }
+std::string vec(const Eigen::Vector3d& v) {
+  std::string s("[");  // appended, not "[" + ...: GCC 12 warns falsely on that (-Wrestrict, bug 105329)
+  s.append(num(v[0])).append(", ").append(num(v[1])).append(", ").append(num(v[2])).append("]");
+  return s;
+}
 
 std::string inv_json(const Invariants& i) {
   std::ostringstream o;

@@ -34,3 +34,23 @@ TEST(HugePages, SmallBlocksAndCopiesBehaveLikeStdVector) {
   big.shrink_to_fit();  // frees through the matching path
   EXPECT_EQ(big.capacity(), 0u);
 }
+
+TEST(HugePages, BufferIsAlignedMovableAndFreesThroughTheAllocator) {
+  const std::size_t n = (std::size_t(5) << 20) / sizeof(std::uint32_t);  // 5 MiB: huge-page path
+  common::huge_buffer<std::uint32_t> a(n);
+  EXPECT_EQ(a.size(), n);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.data()) % common::kHugePage, 0u);
+  for (std::size_t i = 0; i < n; ++i) a[i] = static_cast<std::uint32_t>(3 * i);
+  common::huge_buffer<std::uint32_t> b(std::move(a));
+  EXPECT_EQ(a.size(), 0u);
+  EXPECT_EQ(a.data(), nullptr);
+  EXPECT_EQ(b[n - 1], static_cast<std::uint32_t>(3 * (n - 1)));
+  common::huge_buffer<std::uint32_t> small(10);  // operator new path
+  small[9] = 7;
+  b = std::move(small);  // swap: both blocks are freed by their destructors (ASan checks)
+  EXPECT_EQ(b.size(), 10u);
+  EXPECT_EQ(b[9], 7u);
+  EXPECT_EQ(small.size(), n);
+  common::huge_buffer<double> empty(0);
+  EXPECT_EQ(empty.data(), nullptr);
+}

@@ -1,5 +1,8 @@
-// Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, random velocities),
-// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s.
+// Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, smooth velocity field),
+// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s. Two layouts:
+// the regular lattice of a fresh mpm-frag body (layout 0) and the same lattice with every particle
+// moved randomly within its sub-cell (layout 1: positions as after deformation, where the weights'
+// branch regions vary from particle to particle).
 // BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
 // write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
 // (pipelines/handoff/rules.mk runs dd beside it).
@@ -23,9 +26,28 @@ static const common::ParticleSnapshot& snapshot() {
   return s;
 }
 
+static const common::ParticleSnapshot& jittered() {
+  static const auto s = [] {
+    common::ParticleSnapshot j = snapshot();
+    const double spacing = j.grid.cell_size[0] / 2;  // 2 particles per cell per axis
+    for (std::size_t p = 0; p < j.count(); ++p) {
+      std::uint64_t z = j.id[p] * 3 + 12345;  // splitmix64 keyed by id: u in [-0.45, 0.45)
+      for (int d = 0; d < 3; ++d) {
+        z += 0x9E3779B97F4A7C15ull;
+        std::uint64_t r = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+        r = (r ^ (r >> 27)) * 0x94D049BB133111EBull;
+        r ^= r >> 31;
+        j.position[3 * p + d] += spacing * 0.9 * (static_cast<double>(r >> 11) * 0x1.0p-53 - 0.5);
+      }
+    }
+    return j;
+  }();
+  return s;
+}
+
 static void BM_HandOff(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
-  const auto& s = snapshot();
+  const auto& s = state.range(1) == 0 ? snapshot() : jittered();
   handoff::HandoffConfig c;
   c.input = "bench";
   c.method = "paper";
@@ -38,16 +60,17 @@ static void BM_HandOff(benchmark::State& state) {
   state.counters["particles_per_s_per_core"] =
       benchmark::Counter(static_cast<double>(s.count()) / threads, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["threads"] = threads;
+  state.counters["jittered"] = static_cast<double>(state.range(1));
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   state.counters["peak_rss_MB"] = ru.ru_maxrss / 1024.0;  // whole process, input arrays included
 }
-BENCHMARK(BM_HandOff)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HandOff)->ArgsProduct({{1, 2}, {0, 1}})->ArgNames({"threads", "jittered"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The two phases of BM_HandOff on their own (one thread): the projection (binning, P2G, G2P, cell
 // averages, id map) and one audit pass over the particles (compensated sums of M, X, P, K, L).
 static void BM_Projection(benchmark::State& state) {
-  const auto& s = snapshot();
+  const auto& s = state.range(0) == 0 ? snapshot() : jittered();
   handoff::ProjectionOptions opt;
   omp_set_num_threads(1);
   for (auto _ : state) {
@@ -56,10 +79,10 @@ static void BM_Projection(benchmark::State& state) {
   }
   state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_Projection)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Projection)->Arg(0)->Arg(1)->ArgName("jittered")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static void BM_AuditPass(benchmark::State& state) {
-  const auto& s = snapshot();
+  const auto& s = state.range(0) == 0 ? snapshot() : jittered();
   omp_set_num_threads(1);
   for (auto _ : state) {
     auto inv = handoff::compute_invariants(s.count(), s.position.data(), s.velocity.data(), s.mass.data());
@@ -67,7 +90,7 @@ static void BM_AuditPass(benchmark::State& state) {
   }
   state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_AuditPass)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_AuditPass)->Arg(0)->Arg(1)->ArgName("jittered")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 static std::string bench_file() {
   return (std::filesystem::temp_directory_path() / "bench_handoff_snapshot.h5").string();

@@ -127,3 +127,48 @@ TEST(ShapeFunctions, TensorProductAndNodeSelection) {
   EXPECT_EQ(parse_shape_kind("linear"), ShapeKind::linear);
   EXPECT_THROW(parse_shape_kind("bspline"), std::invalid_argument);
 }
+
+// The branch-free weights-only evaluator (used by the hand-off) against axis_weights: same node
+// choice, same weights to round-off, partition of unity, on random positions and half-widths and on
+// the branch boundaries (f = 1/2, particles on nodes, l = 1/2, |d| = l, h - l, h + l).
+TEST(ShapeFunctions, WeightsOnlyMatchAxisWeights) {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> ux(-3.0, 5.0), ul(0.01, 0.5);
+  const double origin = -1.3, h = 0.1;
+  std::vector<std::pair<double, double>> cases;  // (x, l = lp/h)
+  for (int t = 0; t < 20000; ++t) cases.emplace_back(ux(rng), ul(rng));
+  for (double l : {0.5, 0.25, 0.125, 1.0 / 6.0}) {
+    for (int node = 10; node < 12; ++node)
+      for (double off : {0.0, 0.5, l, 1.0 - l, -l, -(1.0 - l), 0.5 - l, 0.5 + l, 1e-13, -1e-13})
+        cases.emplace_back(origin + (node + off) * h, l);
+  }
+  double worst = 0.0, worst_sum = 0.0;
+  for (const auto& [x, l] : cases) {
+    const AxisWeights ref = axis_weights(ShapeKind::ugimp, x, origin, h, l * h);
+    const AxisWeightsOnly fast = axis_weights_only<ShapeKind::ugimp>(x, origin, 1.0 / h, l);
+    // Node choice may differ only where f is within round-off of 1/2 (both choices then carry a
+    // zero weight on the extra node); compare node by node.
+    double sum = 0.0;
+    for (int s = 0; s < 3; ++s) {
+      sum += fast.w[s];
+      const int node = fast.first + s;
+      const int r = node - ref.first;
+      const double wr = (r >= 0 && r < 3) ? ref.w[r] : 0.0;
+      worst = std::max(worst, std::fabs(fast.w[s] - wr));
+      ASSERT_GE(fast.w[s], 0.0) << "x=" << x << " l=" << l;
+    }
+    worst_sum = std::max(worst_sum, std::fabs(sum - 1.0));
+  }
+  EXPECT_LT(worst, 1e-12);
+  EXPECT_LT(worst_sum, 1e-14);
+  // Linear.
+  for (int t = 0; t < 2000; ++t) {
+    const double x = ux(rng);
+    const AxisWeights ref = axis_weights(ShapeKind::linear, x, origin, h, 0.0);
+    const AxisWeightsOnly fast = axis_weights_only<ShapeKind::linear>(x, origin, 1.0 / h, 0.0);
+    ASSERT_EQ(fast.first, ref.first);
+    EXPECT_NEAR(fast.w[0], ref.w[0], 1e-12);
+    EXPECT_NEAR(fast.w[1], ref.w[1], 1e-12);
+    EXPECT_EQ(fast.w[2], 0.0);
+  }
+}

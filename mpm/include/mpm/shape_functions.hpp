@@ -42,6 +42,7 @@
 #include <string>
 #include <vector>
 
+#include "common/branchless.hpp"
 #include "common/particle_file.hpp"
 
 namespace mpmfrag {
@@ -123,6 +124,57 @@ struct AxisWeights {
     a.dw[s] = ugimp_gradient_1d(d, h, lp);
   }
   return a;
+}
+
+/// Weights only (no gradients) of one particle along one axis: nodes first .. first+n-1.
+struct AxisWeightsOnly {
+  int first = 0;
+  double w[3] = {0.0, 0.0, 0.0};  ///< unused slots are 0
+};
+
+/// The weights of axis_weights() for bulk projections (the hand-off), evaluated without branches
+/// on the particle position. The same S(d) as ugimp_weight_1d / linear_weight_1d, written in cell
+/// units: with u = (x - x_first)/h in [1/2, 3/2] (uGIMP node choice above) and l = l_p/h <= 1/2,
+/// the outer nodes sit at a = u and 2 - u in [1/2, 3/2] (branches "1 - a" or "(1 + l - a)^2/(4l)"
+/// or 0), the middle node at a = |u - 1| <= 1/2 (branches "1 - (a^2 + l^2)/(2l)" or "1 - a").
+/// The branch is chosen by selects (common/branchless.hpp), so irregular particle positions cost no
+/// mispredicted jumps.
+/// Equal to axis_weights(...).w to round-off (tests/mpm/test_shape_functions.cpp).
+/// `inv_h` = 1/h; `l` = l_p/h in (0, 1/2] (ignored for linear); |x - origin| / h < 2^31.
+/// `inv4l` = 1/(4 l), passed in so that callers with many equal-sized particles divide once.
+template <ShapeKind K>
+[[gnu::always_inline]] inline AxisWeightsOnly axis_weights_only(double x, double origin, double inv_h, double l,
+                                                                 double inv4l) {
+  AxisWeightsOnly a;
+  const double xi = (x - origin) * inv_h;
+  const int i = common::floor_to_int(xi);
+  const double f = xi - i;
+  if constexpr (K == ShapeKind::linear) {
+    a.first = i;
+    a.w[0] = 1.0 - f;
+    a.w[1] = f;
+    return a;
+  } else {
+    const double u = common::select_le(f, 0.5, f + 1.0, f);        // distance to the first node, in cells
+    a.first = i - static_cast<int>(u - f + 0.5);          // i - 1 where f <= 1/2 (u - f is 1 or 0)
+    auto outer = [&](double d) {  // node at distance d in [1/2, 3/2]
+      const double t0 = 1.0 + l - d;
+      const double t = common::select_lt(0.0, t0, t0, 0.0);  // max(t0, 0)
+      const double q = t * t * inv4l;
+      return common::select_le(d, 1.0 - l, 1.0 - d, q);
+    };
+    const double c = std::fabs(u - 1.0);  // middle node, c <= 1/2
+    a.w[0] = outer(u);
+    const double mid = 1.0 - c;
+    a.w[1] = common::select_lt(c, l, 1.0 - (c * c + l * l) * (2.0 * inv4l), mid);
+    a.w[2] = outer(2.0 - u);
+    return a;
+  }
+}
+
+template <ShapeKind K>
+[[gnu::always_inline]] inline AxisWeightsOnly axis_weights_only(double x, double origin, double inv_h, double l) {
+  return axis_weights_only<K>(x, origin, inv_h, l, K == ShapeKind::linear ? 0.0 : 0.25 / l);
 }
 
 /// The full 3D stencil of one particle: per-axis weights; the node set is the tensor product.
