@@ -1,8 +1,9 @@
 // Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, smooth velocity field),
-// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s. Two layouts:
-// the regular lattice of a fresh mpm-frag body (layout 0) and the same lattice with every particle
-// moved randomly within its sub-cell (layout 1: positions as after deformation, where the weights'
-// branch regions vary from particle to particle).
+// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s. Three layouts:
+// 0 the regular lattice of a fresh mpm-frag body, in creation order; 1 the same lattice with every
+// particle moved randomly within its sub-cell (positions as after deformation, where the weights'
+// branch regions vary from particle to particle), creation order; 2 layout 1 in the block-sorted
+// order in which mpm-frag writes snapshots after its first step (the realistic input).
 // BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
 // write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
 // (pipelines/handoff/rules.mk runs dd beside it).
@@ -10,6 +11,7 @@
 #include <omp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <filesystem>
 
 #include "common/provenance.hpp"
@@ -45,9 +47,49 @@ static const common::ParticleSnapshot& jittered() {
   return s;
 }
 
+// The jittered set in the order mpm-frag writes its snapshots: solver.reorder_every (default 25
+// steps) sorts particles by 4^3-cell block of their first stencil node, stable in index
+// (mpm/src/solver.cpp, Solver::reorder), so a snapshot after step 0 is block-sorted.
+static const common::ParticleSnapshot& mpmfrag_order() {
+  static const auto s = [] {
+    const common::ParticleSnapshot& j = jittered();
+    const common::GridInfo& g = j.grid;
+    const int nb[3] = {(g.shape[0] + 3) / 4, (g.shape[1] + 3) / 4, (g.shape[2] + 3) / 4};
+    std::vector<std::uint32_t> key(j.count()), perm(j.count());
+    for (std::size_t p = 0; p < j.count(); ++p) {
+      int b[3];
+      for (int d = 0; d < 3; ++d)
+        b[d] = mpmfrag::axis_weights(mpmfrag::ShapeKind::ugimp, j.position[3 * p + d], g.origin[d], g.cell_size[d],
+                                     0.5 * j.size[3 * p + d]).first / 4;
+      key[p] = static_cast<std::uint32_t>(b[0] + nb[0] * (b[1] + nb[1] * b[2]));
+      perm[p] = static_cast<std::uint32_t>(p);
+    }
+    std::stable_sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+    common::ParticleSnapshot o = j;
+    for (std::size_t q = 0; q < perm.size(); ++q) {
+      const std::size_t p = perm[q];
+      for (int d = 0; d < 3; ++d) {
+        o.position[3 * q + d] = j.position[3 * p + d];
+        o.velocity[3 * q + d] = j.velocity[3 * p + d];
+        o.size[3 * q + d] = j.size[3 * p + d];
+      }
+      o.mass[q] = j.mass[p];
+      o.volume[q] = j.volume[p];
+      o.id[q] = j.id[p];
+      o.material[q] = j.material[p];
+    }
+    return o;
+  }();
+  return s;
+}
+
+static const common::ParticleSnapshot& layout(std::int64_t k) {
+  return k == 0 ? snapshot() : k == 1 ? jittered() : mpmfrag_order();
+}
+
 static void BM_HandOff(benchmark::State& state) {
   const int threads = static_cast<int>(state.range(0));
-  const auto& s = state.range(1) == 0 ? snapshot() : jittered();
+  const auto& s = layout(state.range(1));
   handoff::HandoffConfig c;
   c.input = "bench";
   c.method = "paper";
@@ -60,17 +102,17 @@ static void BM_HandOff(benchmark::State& state) {
   state.counters["particles_per_s_per_core"] =
       benchmark::Counter(static_cast<double>(s.count()) / threads, benchmark::Counter::kIsIterationInvariantRate);
   state.counters["threads"] = threads;
-  state.counters["jittered"] = static_cast<double>(state.range(1));
+  state.counters["layout"] = static_cast<double>(state.range(1));
   rusage ru{};
   getrusage(RUSAGE_SELF, &ru);
   state.counters["peak_rss_MB"] = ru.ru_maxrss / 1024.0;  // whole process, input arrays included
 }
-BENCHMARK(BM_HandOff)->ArgsProduct({{1, 2}, {0, 1}})->ArgNames({"threads", "jittered"})->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_HandOff)->ArgsProduct({{1, 2}, {0, 1, 2}})->ArgNames({"threads", "layout"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // The two phases of BM_HandOff on their own (one thread): the projection (binning, P2G, G2P, cell
 // averages, id map) and one audit pass over the particles (compensated sums of M, X, P, K, L).
 static void BM_Projection(benchmark::State& state) {
-  const auto& s = state.range(0) == 0 ? snapshot() : jittered();
+  const auto& s = layout(state.range(0));
   handoff::ProjectionOptions opt;
   omp_set_num_threads(1);
   for (auto _ : state) {
@@ -79,7 +121,7 @@ static void BM_Projection(benchmark::State& state) {
   }
   state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_Projection)->Arg(0)->Arg(1)->ArgName("jittered")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Projection)->Arg(0)->Arg(1)->Arg(2)->ArgName("layout")->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // BM_AuditPass on 2 threads is also the machine's reference for thread scaling: fixed chunks,
 // no serial part, streaming reads of 56 B per particle (speed-up 2 would be ideal).
