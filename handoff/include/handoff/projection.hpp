@@ -2,8 +2,9 @@
 /// The hand-off of El Mir, Ramesh & Richardson (2019, §4.2 and the lower row of Fig. 1): MPM
 /// particles -> one soft sphere per occupied grid cell.
 ///
-/// Governing equations (uGIMP weights S_ip from mpm-frag's shape_functions.hpp, the very code the
-/// solver uses; particle half-widths l_p = size_p / 2 from the snapshot):
+/// Governing equations (uGIMP weights S_ip from mpm-frag's shape_functions.hpp: the solver's S(d)
+/// in its weights-only, branch-free form axis_weights_only, tested equal to the solver's
+/// axis_weights; particle half-widths l_p = size_p / 2 from the snapshot):
 ///   P2G:  m_i = sum_p S_ip m_p,          p_i = sum_p S_ip m_p v_p,        v_i = p_i / m_i
 ///   G2P:  v~_p = sum_i S_ip v_i                                   (grid velocity at particle p)
 ///   cell c (of edge k*h, k = `coarsen`), particles p in c:
