@@ -197,6 +197,7 @@ void project_kernels(const common::ParticleSnapshot& s, const Lattice& L, const 
         __builtin_prefetch(&s.size[L.size_stride * pa]);
         __builtin_prefetch(&s.mass[pa]);
         __builtin_prefetch(&s.id[pa]);
+        for (const common::Field* f : carry) __builtin_prefetch(&f->values[pa]);
       }
       const std::size_t p = order[q];
       const double* x = &s.position[3 * p];
