@@ -78,8 +78,11 @@ double min_sphere_gap(const ProjectionResult& r) {
 #pragma omp parallel for reduction(min : best) schedule(static)
   for (std::int64_t a = 0; a < static_cast<std::int64_t>(n); ++a) {
     const std::int64_t c = r.cell[a];
-    const int cx = static_cast<int>(c % sh[0]), cy = static_cast<int>((c / sh[0]) % sh[1]),
-              cz = static_cast<int>(c / (std::int64_t(sh[0]) * sh[1]));
+    // 32-bit division (a 64-bit one costs several times more): cell indices are < 2^32
+    // (project_to_spheres refuses larger grids).
+    const auto c32 = static_cast<std::uint32_t>(c), sx = static_cast<std::uint32_t>(sh[0]), sy = static_cast<std::uint32_t>(sh[1]);
+    const std::uint32_t cxy = c32 / sx;
+    const int cx = static_cast<int>(c32 - cxy * sx), cy = static_cast<int>(cxy % sy), cz = static_cast<int>(cxy / sy);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -91,7 +94,11 @@ double min_sphere_gap(const ProjectionResult& r) {
           if (found < 0) continue;
           const std::size_t b = static_cast<std::size_t>(found);
           const Eigen::Vector3d d = Eigen::Vector3d(&s.position[3 * a]) - Eigen::Vector3d(&s.position[3 * b]);
-          best = std::min(best, d.norm() - s.radius[a] - s.radius[b]);
+          // gap = |d| - ra - rb improves on best only if |d| < best + ra + rb: the square root is
+          // taken for those pairs alone (on a filled lattice every pair but the first is skipped).
+          const double rr = s.radius[a] + s.radius[b], lim = best + rr;
+          const double d2 = d.squaredNorm();
+          if (lim > 0.0 && d2 < lim * lim) best = std::min(best, std::sqrt(d2) - rr);
         }
   }
   return best;
