@@ -78,8 +78,7 @@ double min_sphere_gap(const ProjectionResult& r) {
 #pragma omp parallel for reduction(min : best) schedule(static)
   for (std::int64_t a = 0; a < static_cast<std::int64_t>(n); ++a) {
     const std::int64_t c = r.cell[a];
-    // 32-bit division (a 64-bit one costs several times more): cell indices are < 2^32
-    // (project_to_spheres refuses larger grids).
+    // 32-bit division: cell indices are < 2^32 (project_to_spheres refuses larger grids).
     const auto c32 = static_cast<std::uint32_t>(c), sx = static_cast<std::uint32_t>(sh[0]), sy = static_cast<std::uint32_t>(sh[1]);
     const std::uint32_t cxy = c32 / sx;
     const int cx = static_cast<int>(c32 - cxy * sx), cy = static_cast<int>(cxy % sy), cz = static_cast<int>(cxy / sy);

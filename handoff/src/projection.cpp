@@ -18,7 +18,6 @@ struct CoarseGrid {
   double edge;            // sphere cell edge
   Eigen::Vector3d origin;
   std::int64_t cells() const { return std::int64_t(shape[0]) * shape[1] * shape[2]; }
-  std::int64_t key(const Eigen::Vector3i& c) const { return c[0] + std::int64_t(shape[0]) * (c[1] + std::int64_t(shape[1]) * c[2]); }
 };
 
 /// One particle's stencil for the projection: the first node's linear index and the per-axis
@@ -118,9 +117,6 @@ std::string where_particle(const common::ParticleSnapshot& s, std::size_t p) {
   return o.str();
 }
 
-}  // namespace
-
-namespace {
 /// Steps 2 and 3 of project_to_spheres for one shape kind (the kernels are compiled per kind).
 template <mpmfrag::ShapeKind K>
 void project_kernels(const common::ParticleSnapshot& s, const Lattice& L, const CoarseGrid& cg, int k,

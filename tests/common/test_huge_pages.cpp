@@ -54,3 +54,15 @@ TEST(HugePages, BufferIsAlignedMovableAndFreesThroughTheAllocator) {
   common::huge_buffer<double> empty(0);
   EXPECT_EQ(empty.data(), nullptr);
 }
+
+TEST(HugePages, ResizeHugeGivesValueInitialisedVectors) {
+  std::vector<double> big;
+  common::resize_huge(big, (std::size_t(5) << 20) / sizeof(double));  // 5 MiB: advised
+  ASSERT_EQ(big.size(), (std::size_t(5) << 20) / sizeof(double));
+  for (double x : big) ASSERT_EQ(x, 0.0);
+  std::vector<std::int32_t> small;
+  common::resize_huge(small, 7);  // below the threshold: plain resize
+  EXPECT_EQ(small, std::vector<std::int32_t>(7, 0));
+  common::resize_huge(small, 9);  // not empty: no advice, values kept
+  EXPECT_EQ(small.size(), 9u);
+}

@@ -3,7 +3,8 @@
 // 0 the regular lattice of a fresh mpm-frag body, in creation order; 1 the same lattice with every
 // particle moved randomly within its sub-cell (positions as after deformation, where the weights'
 // branch regions vary from particle to particle), creation order; 2 layout 1 in the block-sorted
-// order in which mpm-frag writes snapshots after its first step (the realistic input).
+// order in which mpm-frag writes snapshots after its first step (the realistic input); the
+// projection alone also runs on 3, layout 1 in the hand-off's own cell order (best case).
 // BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
 // write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
 // (pipelines/handoff/rules.mk runs dd beside it).
@@ -12,9 +13,11 @@
 #include <sys/resource.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "common/provenance.hpp"
+#include "handoff/audit.hpp"
 #include "handoff/invariants.hpp"
 #include "handoff/projection.hpp"
 #include "handoff/run_handoff.hpp"
@@ -47,44 +50,63 @@ static const common::ParticleSnapshot& jittered() {
   return s;
 }
 
-// The jittered set in the order mpm-frag writes its snapshots: solver.reorder_every (default 25
-// steps) sorts particles by 4^3-cell block of their first stencil node, stable in index
-// (mpm/src/solver.cpp, Solver::reorder), so a snapshot after step 0 is block-sorted.
+/// The particles of `j` sorted by key(position, size) (stable in index).
+template <class Key>
+static common::ParticleSnapshot sorted_by(const common::ParticleSnapshot& j, Key key_of) {
+  std::vector<std::uint32_t> key(j.count()), perm(j.count());
+  for (std::size_t p = 0; p < j.count(); ++p) {
+    key[p] = key_of(&j.position[3 * p], &j.size[3 * p]);
+    perm[p] = static_cast<std::uint32_t>(p);
+  }
+  std::stable_sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
+  common::ParticleSnapshot o = j;
+  for (std::size_t q = 0; q < perm.size(); ++q) {
+    const std::size_t p = perm[q];
+    for (int d = 0; d < 3; ++d) {
+      o.position[3 * q + d] = j.position[3 * p + d];
+      o.velocity[3 * q + d] = j.velocity[3 * p + d];
+      o.size[3 * q + d] = j.size[3 * p + d];
+    }
+    o.mass[q] = j.mass[p];
+    o.volume[q] = j.volume[p];
+    o.id[q] = j.id[p];
+    o.material[q] = j.material[p];
+  }
+  return o;
+}
+
+// Layout 2: the jittered set in the order mpm-frag writes its snapshots: solver.reorder_every
+// (default 25 steps) sorts particles by 4^3-cell block of their first stencil node, stable in
+// index (mpm/src/solver.cpp, Solver::reorder), so a snapshot after step 0 is block-sorted.
+// Layout 3: the jittered set in the hand-off's own cell order (x fastest), the best case for its
+// memory access (a reference for how much the input order costs, not an input users have).
 static const common::ParticleSnapshot& mpmfrag_order() {
   static const auto s = [] {
-    const common::ParticleSnapshot& j = jittered();
-    const common::GridInfo& g = j.grid;
+    const common::GridInfo& g = jittered().grid;
     const int nb[3] = {(g.shape[0] + 3) / 4, (g.shape[1] + 3) / 4, (g.shape[2] + 3) / 4};
-    std::vector<std::uint32_t> key(j.count()), perm(j.count());
-    for (std::size_t p = 0; p < j.count(); ++p) {
+    return sorted_by(jittered(), [&](const double* x, const double* size) {
       int b[3];
       for (int d = 0; d < 3; ++d)
-        b[d] = mpmfrag::axis_weights(mpmfrag::ShapeKind::ugimp, j.position[3 * p + d], g.origin[d], g.cell_size[d],
-                                     0.5 * j.size[3 * p + d]).first / 4;
-      key[p] = static_cast<std::uint32_t>(b[0] + nb[0] * (b[1] + nb[1] * b[2]));
-      perm[p] = static_cast<std::uint32_t>(p);
-    }
-    std::stable_sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
-    common::ParticleSnapshot o = j;
-    for (std::size_t q = 0; q < perm.size(); ++q) {
-      const std::size_t p = perm[q];
-      for (int d = 0; d < 3; ++d) {
-        o.position[3 * q + d] = j.position[3 * p + d];
-        o.velocity[3 * q + d] = j.velocity[3 * p + d];
-        o.size[3 * q + d] = j.size[3 * p + d];
-      }
-      o.mass[q] = j.mass[p];
-      o.volume[q] = j.volume[p];
-      o.id[q] = j.id[p];
-      o.material[q] = j.material[p];
-    }
-    return o;
+        b[d] = mpmfrag::axis_weights(mpmfrag::ShapeKind::ugimp, x[d], g.origin[d], g.cell_size[d], 0.5 * size[d]).first / 4;
+      return static_cast<std::uint32_t>(b[0] + nb[0] * (b[1] + nb[1] * b[2]));
+    });
+  }();
+  return s;
+}
+static const common::ParticleSnapshot& cell_order() {
+  static const auto s = [] {
+    const common::GridInfo& g = jittered().grid;
+    return sorted_by(jittered(), [&](const double* x, const double*) {
+      int c[3];
+      for (int d = 0; d < 3; ++d) c[d] = static_cast<int>(std::floor((x[d] - g.origin[d]) / g.cell_size[d]));
+      return static_cast<std::uint32_t>(c[0] + g.shape[0] * (c[1] + g.shape[1] * c[2]));
+    });
   }();
   return s;
 }
 
 static const common::ParticleSnapshot& layout(std::int64_t k) {
-  return k == 0 ? snapshot() : k == 1 ? jittered() : mpmfrag_order();
+  return k == 0 ? snapshot() : k == 1 ? jittered() : k == 2 ? mpmfrag_order() : cell_order();
 }
 
 static void BM_HandOff(benchmark::State& state) {
@@ -109,19 +131,28 @@ static void BM_HandOff(benchmark::State& state) {
 }
 BENCHMARK(BM_HandOff)->ArgsProduct({{1, 2}, {0, 1, 2}})->ArgNames({"threads", "layout"})->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The two phases of BM_HandOff on their own (one thread): the projection (binning, P2G, G2P, cell
-// averages, id map) and one audit pass over the particles (compensated sums of M, X, P, K, L).
+// The phases of BM_HandOff on their own: the projection (binning, P2G, G2P, cell averages, id
+// map; layouts 0-3, 1 and 2 threads), one audit pass over the particles (compensated sums of M, X,
+// P, K, L), and the audit's minimum gap between the spheres.
 static void BM_Projection(benchmark::State& state) {
-  const auto& s = layout(state.range(0));
+  const auto& s = layout(state.range(1));
   handoff::ProjectionOptions opt;
-  omp_set_num_threads(1);
+  omp_set_num_threads(static_cast<int>(state.range(0)));
   for (auto _ : state) {
     auto r = handoff::project_to_spheres(s, opt, "bench");
     benchmark::DoNotOptimize(r.spheres.velocity.data());
   }
   state.counters["particles_per_s"] = benchmark::Counter(static_cast<double>(s.count()), benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_Projection)->Arg(0)->Arg(1)->Arg(2)->ArgName("layout")->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_Projection)->ArgsProduct({{1, 2}, {0, 1, 2, 3}})->ArgNames({"threads", "layout"})->Unit(benchmark::kMillisecond)->UseRealTime();
+
+static void BM_SphereGap(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const auto r = handoff::project_to_spheres(snapshot(), handoff::ProjectionOptions{}, "bench");
+  for (auto _ : state) benchmark::DoNotOptimize(handoff::min_sphere_gap(r));
+  state.counters["spheres"] = static_cast<double>(r.spheres.count());
+}
+BENCHMARK(BM_SphereGap)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 // BM_AuditPass on 2 threads is also the machine's reference for thread scaling: fixed chunks,
 // no serial part, streaming reads of 56 B per particle (speed-up 2 would be ideal).
