@@ -104,9 +104,9 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
   const auto t2 = std::chrono::steady_clock::now();
   const Audit& a = out.audit;
   spdlog::info("{}", audit_text(a));
-  spdlog::info("read {:.3f} s, projection {:.3f} s ({:.2e} particles/s)",
+  spdlog::info("read {:.3f} s, hand-off {:.3f} s ({:.2e} particles/s, {} kernels)",
                std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(),
-               snap.count() / std::max(1e-9, std::chrono::duration<double>(t2 - t1).count()));
+               snap.count() / std::max(1e-9, std::chrono::duration<double>(t2 - t1).count()), out.result.kernels);
   common::write_text_atomic(cfg.audit_json, audit_json(a));
   if (a.kinetic_loss_relative() > cfg.max_energy_loss) {
     throw common::NumericalError("kinetic-energy loss " + std::to_string(100 * a.kinetic_loss_relative()) +
@@ -126,6 +126,7 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
     h5::write_attr(g, "outflow", cfg.outflow);
     h5::write_attr(g, "method", cfg.method);
     h5::write_attr(g, "coarsen", static_cast<std::int64_t>(cfg.projection.coarsen));
+    h5::write_attr(g, "kernels", out.result.kernels);  // "avx2" or "portable": same results, bit for bit
     write_audit_h5(f, a);
   });
   if (!cfg.ss_path.empty())

@@ -300,3 +300,54 @@ TEST(Projection, KernelsEqualAReferenceBuiltOnTheSolverStencils) {
     }
   }
 }
+
+// The AVX2 build of the inner loops (handoff/src/kernels_avx2.cpp) against the portable build:
+// same operations lane by lane, no FMA, so every output must agree bit for bit — sphere masses,
+// velocities, carried fields, the particle-id map — for both shape kinds, coarsen 1-3, equal and
+// mixed particle sizes, and particles exactly on cell faces, node planes and the f = 1/2 planes
+// where uGIMP switches its node choice. A lane mix-up, an FMA contraction or an off-by-one node
+// choice changes low bits and fails here. Skipped on CPUs without AVX2 (only one build runs).
+TEST(Projection, VectorKernelsEqualPortableBitForBit) {
+  if (!vector_kernels_available()) GTEST_SKIP() << "this CPU has no AVX2: only the portable kernels run";
+  auto s = testsets::uniform(8000, 16, 0.7, 1.6, 9.5, 0.35, 33);
+  std::mt19937_64 g(5);
+  for (std::size_t p = 0; p < s.count(); p += 5)  // every 5th particle on a special plane per axis
+    for (int d = 0; d < 3; ++d) {
+      const double h = s.grid.cell_size[d];
+      const double cellpos = std::floor(s.position[3 * p + d] / h);
+      const double offs[4] = {0.0, 0.5, 0.25, 0.75};
+      s.position[3 * p + d] = (cellpos + offs[(p / 5 + d) % 4]) * h;
+    }
+  common::Field damage{"damage", "1", 1, {}, ""};
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (std::size_t p = 0; p < s.count(); ++p) damage.values.push_back(u(g));
+  s.fields.push_back(damage);
+  for (bool mixed : {false, true}) {
+    if (mixed)
+      for (std::size_t p = 0; p < s.count(); ++p)
+        for (int d = 0; d < 3; ++d) s.size[3 * p + d] = 0.07 + 0.63 * static_cast<double>((p * 5 + d) % 13) / 12.0;
+    for (auto kind : {mpmfrag::ShapeKind::ugimp, mpmfrag::ShapeKind::linear})
+      for (int k : {1, 2, 3}) {
+        ProjectionOptions opt;
+        opt.shape = kind;
+        opt.coarsen = k;
+        opt.carry_fields = {"damage"};
+        const ProjectionResult v = project_to_spheres(s, opt, "test");
+        opt.vector_kernels = false;
+        const ProjectionResult p = project_to_spheres(s, opt, "test");
+        const std::string what = std::string(mpmfrag::shape_kind_name(kind)) + " coarsen " + std::to_string(k) +
+                                 (mixed ? " mixed sizes" : " equal sizes");
+        EXPECT_EQ(v.kernels, "avx2") << what;
+        EXPECT_EQ(p.kernels, "portable") << what;
+        EXPECT_EQ(v.spheres.mass, p.spheres.mass) << what;
+        EXPECT_EQ(v.spheres.velocity, p.spheres.velocity) << what;
+        EXPECT_EQ(v.spheres.position, p.spheres.position) << what;
+        ASSERT_EQ(v.spheres.fields.size(), 1u);
+        EXPECT_EQ(v.spheres.fields[0].values, p.spheres.fields[0].values) << what;
+        EXPECT_EQ(v.map.offset, p.map.offset) << what;
+        EXPECT_TRUE(std::equal(v.map.particle_id.begin(), v.map.particle_id.end(), p.map.particle_id.begin(),
+                               p.map.particle_id.end())) << what;
+        EXPECT_EQ(v.occupied_mpm_cells, p.occupied_mpm_cells) << what;
+      }
+  }
+}
