@@ -12,6 +12,7 @@
 // including the OpenMP regions outlined from them. Every header is included before the pragma, so
 // inline library functions (std::, Eigen) keep the default target and cannot leak AVX2 code into
 // the rest of the program through the linker's choice among duplicate inline definitions.
+#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -33,7 +34,6 @@ namespace {
 typedef double v4d __attribute__((vector_size(32)));
 typedef double v4u __attribute__((vector_size(32), aligned(8)));  // unaligned loads and stores
 typedef long long v4l __attribute__((vector_size(32)));
-typedef int v4i __attribute__((vector_size(16)));
 
 /// One particle's stencil: first node's linear index; w[node] holds that node's weight per axis
 /// in lanes 0..2 (x, y, z).
@@ -48,9 +48,12 @@ struct StencilV {
 /// portable build: l = size / (2 h), 1/(4 l), recomputed only when the size changes).
 struct CacheV {
   v4d origin;
+  v4d stride;  // node strides (1, sy, sz, 0) as doubles
   double size[3] = {-1.0, -1.0, -1.0};
   v4d l = {1.0, 1.0, 1.0, 1.0}, inv4l = {0.25, 0.25, 0.25, 0.25};
-  explicit CacheV(const Lattice& g) : origin{g.origin[0], g.origin[1], g.origin[2], 0.0} {}
+  explicit CacheV(const Lattice& g)
+      : origin{g.origin[0], g.origin[1], g.origin[2], 0.0},
+        stride{1.0, static_cast<double>(g.sy), static_cast<double>(g.sz), 0.0} {}
   [[gnu::always_inline]] void update(const double* sz, double inv_h) {
     if (sz[0] == size[0] && sz[1] == size[1] && sz[2] == size[2]) return;
     size[0] = sz[0];
@@ -73,19 +76,18 @@ struct Avx2Ops {
     const v4d one = {1.0, 1.0, 1.0, 1.0}, zero = {0.0, 0.0, 0.0, 0.0};
     const v4d xv = {x[0], x[1], x[2], 0.0};
     const v4d xi = (xv - c.origin) * g.inv_h;
-    v4i i = __builtin_convertvector(xi, v4i);                       // truncation
-    i += __builtin_convertvector(xi < __builtin_convertvector(i, v4d), v4i);  // floor: -1 below
-    const v4d f = xi - __builtin_convertvector(i, v4d);
+    const v4d fl = _mm256_floor_pd(xi);  // = floor_to_int(xi), exactly, for the validated |xi| < 2^31
+    const v4d f = xi - fl;
     StencilV<K> st;
-    v4i first;
+    v4d first;  // first node per axis, an integer in a double
     if constexpr (K == mpmfrag::ShapeKind::linear) {
-      first = i;
+      first = fl;
       st.w[0] = one - f;
       st.w[1] = f;
     } else {
       const v4l low = f <= 0.5;
       const v4d u = low ? f + 1.0 : f;               // distance to the first node, in cells
-      first = i + __builtin_convertvector(low, v4i);  // i - 1 where f <= 1/2
+      first = low ? fl - one : fl;                  // i - 1 where f <= 1/2
       const v4d l = c.l, inv4l = c.inv4l;
       auto outer = [&](v4d d) {  // node at distance d in [1/2, 3/2]
         const v4d t0 = one + l - d;
@@ -98,8 +100,8 @@ struct Avx2Ops {
       st.w[1] = cm < l ? one - (cm * cm + l * l) * (2.0 * inv4l) : one - cm;
       st.w[2] = outer(2.0 - u);
     }
-    st.base = static_cast<std::size_t>(first[0]) + static_cast<std::size_t>(first[1]) * g.sy +
-              static_cast<std::size_t>(first[2]) * g.sz;
+    const v4d b = first * c.stride;  // node index terms, integers below 2^53: exact in doubles
+    st.base = static_cast<std::size_t>(b[0] + b[1] + b[2]);
     return st;
   }
 
