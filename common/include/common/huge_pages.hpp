@@ -9,6 +9,9 @@
 // ignored and the block behaves like any other. Blocks below `kHugeThreshold` use operator new.
 //
 // The allocator is stateless and interchangeable; it changes where memory comes from, never values.
+//
+// The tool executables that link `common_tool_new` (src/huge_page_new.cpp: mpm2spheres) apply the
+// same policy to every block of 2 MiB or more through a replaced global operator new.
 #include <sys/mman.h>
 
 #include <cstddef>
