@@ -12,7 +12,6 @@
 // including the OpenMP regions outlined from them. Every header is included before the pragma, so
 // inline library functions (std::, Eigen) keep the default target and cannot leak AVX2 code into
 // the rest of the program through the linker's choice among duplicate inline definitions.
-#include <immintrin.h>
 #include <omp.h>
 
 #include <algorithm>
@@ -24,6 +23,7 @@
 #include "kernel_types.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#include <immintrin.h>  // x86 only; on other targets this file compiles to the "not available" stubs
 #define HANDOFF_AVX2_KERNELS 1
 #pragma GCC push_options
 #pragma GCC target("avx2")
