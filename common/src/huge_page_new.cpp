@@ -1,5 +1,5 @@
-// Global operator new / delete for the tool executables (linked into them alone, never into the
-// libraries or the tests): blocks of 2 MiB or more come 2 MiB-aligned and advised for transparent
+// Global operator new / delete for the tool executables (linked into them and into the hand-off
+// benchmark, which measures the tool's configuration; never into the libraries or the tests): blocks of 2 MiB or more come 2 MiB-aligned and advised for transparent
 // huge pages, everything else from malloc as before.
 //
 // Why: a one-shot tool run touches its large arrays (the particle snapshot it reads, the spheres

@@ -39,6 +39,16 @@ struct Sum {
   double value() const { return s + c; }
 };
 
+/// Compensated total of per-chunk partials (value and correction of each), in chunk order.
+double total(const Sum* part, std::size_t count, std::size_t stride) {
+  Sum t;
+  for (std::size_t c = 0; c < count; ++c) {
+    t.add(part[c * stride].s);
+    t.add(part[c * stride].c);
+  }
+  return t.value();
+}
+
 constexpr std::size_t kChunk = 16384;  // fixed chunks: the sums do not depend on the thread count
 constexpr std::size_t kBlock = 32;     // plain sums within a block
 
@@ -104,14 +114,7 @@ Invariants compute_invariants(std::size_t n, const double* x, const double* v, c
       accumulate_chunk<false>(i0, i1, x, v, m, spin, radius, xr, vr, &part[c * kQ]);
   }
   double t[kQ];
-  for (int q = 0; q < kQ; ++q) {
-    Sum s;
-    for (std::size_t c = 0; c < nc; ++c) {
-      s.add(part[c * kQ + q].s);
-      s.add(part[c * kQ + q].c);
-    }
-    t[q] = s.value();
-  }
+  for (int q = 0; q < kQ; ++q) t[q] = total(&part[q], nc, kQ);
   r.mass = t[kM];
   if (!(r.mass > 0.0)) return r;
   const Eigen::Vector3d A(t[kA], t[kA + 1], t[kA + 2]), B(t[kB], t[kB + 1], t[kB + 2]);
@@ -140,12 +143,7 @@ Invariants compute_invariants(std::size_t n, const double* x, const double* v, c
       spread[c].add(a);
     }
   }
-  Sum ls;
-  for (const Sum& p : spread) {
-    ls.add(p.s);
-    ls.add(p.c);
-  }
-  r.angular_momentum_scale = ls.value() + t[kLS];
+  r.angular_momentum_scale = total(spread.data(), nc, 1) + t[kLS];
   return r;
 }
 
