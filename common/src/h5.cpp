@@ -1,7 +1,12 @@
 #include "common/h5.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstring>
 #include <filesystem>
+#include <memory>
 #include <sstream>
 
 #include "common/huge_pages.hpp"
@@ -126,9 +131,39 @@ void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 Handle create_file(const std::string& path) {
   quiet_errors();
-  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  Handle fapl(H5Pcreate(H5P_FILE_ACCESS));
+  // Memory grows in 16 MiB steps; backing_store = 0: nothing is written on close.
+  if (!fapl.valid() || H5Pset_fapl_core(fapl, std::size_t{16} << 20, 0) < 0)
+    throw IoError(path + ": cannot set up the in-memory HDF5 driver");
+  Handle f(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl));
   if (!f.valid()) throw IoError(path + ": cannot create HDF5 file");
   return f;
+}
+
+void save_file(hid_t file, const std::string& path, const std::string& shown_as) {
+  const std::string& name = shown_as.empty() ? path : shown_as;
+  if (H5Fflush(file, H5F_SCOPE_GLOBAL) < 0) throw IoError(name + ": HDF5 flush failed");
+  const ssize_t size = H5Fget_file_image(file, nullptr, 0);
+  if (size < 0) throw IoError(name + ": cannot take the HDF5 file image");
+  const std::size_t bytes = static_cast<std::size_t>(size);
+  std::unique_ptr<char[]> image(new char[bytes]);  // not value-initialised: HDF5 fills it
+  if (H5Fget_file_image(file, image.get(), bytes) != size)
+    throw IoError(name + ": cannot take the HDF5 file image");
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throw IoError(name + ": cannot create: " + std::strerror(errno));
+  std::size_t done = 0;
+  while (done < bytes) {
+    const ssize_t w = ::write(fd, image.get() + done, bytes - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      const int err = w < 0 ? errno : ENOSPC;
+      ::close(fd);
+      throw IoError(name + ": write failed after " + std::to_string(done) + " of " +
+                    std::to_string(bytes) + " bytes: " + std::strerror(err));
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  if (::close(fd) != 0) throw IoError(name + ": close failed: " + std::strerror(errno));
 }
 
 Handle open_file_read(const std::string& path) {

@@ -82,7 +82,7 @@ void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
       }
       h5::write_provenance(f, prov);
       if (extra) extra(f);
-      if (H5Fflush(f, H5F_SCOPE_GLOBAL) < 0) throw IoError(path + ": HDF5 flush failed");
+      h5::save_file(f, out.temp_path(), path);
     }
     out.commit();
   }

@@ -31,8 +31,17 @@ class Handle {
   hid_t id_ = -1;
 };
 
-/// Create (truncate) a file for writing; throws IoError.
+/// Create a file for writing. The file is built in memory (HDF5 core driver, no backing
+/// store) and reaches the disk only through save_file(): a full disk or a file-size limit then
+/// fails one checked POSIX write, never an HDF5 flush half-way through a file (which left
+/// libhdf5 with a file it could not close, and the tools crashed at exit). `path` is the name the
+/// image will be saved under (used in messages). Peak memory: about twice the file size.
 Handle create_file(const std::string& path);
+/// Write the image of a file made by create_file() to `path` (created or truncated) with checked
+/// writes; throws IoError naming `shown_as` (default: `path`; e.g. the final name of a temporary
+/// file) and the cause (disk full, file too large, not writable). The caller renames it into
+/// place (AtomicPath), so a failed save never replaces an earlier file.
+void save_file(hid_t file, const std::string& path, const std::string& shown_as = "");
 /// Open an existing file read-only; throws InputError if missing or not HDF5.
 Handle open_file_read(const std::string& path);
 /// Create a group (throws IoError); open a group (throws InputError naming `file`).
