@@ -4,7 +4,7 @@ import argparse
 import os
 import sys
 
-from .common import h5py
+from h5io import h5py  # pipelines/lib
 from .cutaway import impact_frame
 from .discover import discover
 from .figures import figures_section

@@ -1,13 +1,7 @@
 """Shared pieces of the impact report: the "not available" marker, number formatting for the
-Markdown tables, and reading HDF5 root attributes and /provenance of the suite's output files."""
+Markdown tables, and a nested-dict lookup."""
 import math
 
-import numpy as np
-
-try:
-    import h5py
-except ImportError:  # pragma: no cover
-    h5py = None
 
 NA = "not available"
 
@@ -33,23 +27,6 @@ def vec3(v, unit=""):
     if not isinstance(v, (list, tuple)) or len(v) != 3:
         return NA
     return "(" + ", ".join(fmt(c, 4) for c in v) + f") {unit}".rstrip()
-
-
-def h5_attr(f, name, default=None):
-    v = f.attrs.get(name, default)
-    if isinstance(v, bytes):
-        v = v.decode()
-    if isinstance(v, np.ndarray) and v.shape == ():
-        v = v[()]
-    return v
-
-
-def provenance(f):
-    out = {}
-    if "provenance" in f:
-        for k, v in f["provenance"].attrs.items():
-            out[k] = v.decode() if isinstance(v, bytes) else str(v)
-    return out
 
 
 def dig(d, ks):

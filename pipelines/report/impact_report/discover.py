@@ -4,7 +4,7 @@ and scenes by name; explicit command-line options override what was found."""
 import json
 import os
 
-from .common import h5_attr, h5py, provenance
+from h5io import attr as h5_attr, h5py, provenance  # pipelines/lib
 
 
 class Run:

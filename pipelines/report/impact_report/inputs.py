@@ -9,8 +9,7 @@ import tomllib
 
 import numpy as np
 from csvio import read_rows as load_csv  # pipelines/lib (on sys.path via __init__)
-
-from .common import h5_attr, h5py, provenance
+from h5io import h5py, provenance, read_group
 
 
 def load_json(path, notes, what):
@@ -49,17 +48,18 @@ def analysis_csv(summary, summary_path, key, suffix):
 
 def read_items(path, kind):
     """Positions, masses, damage (or None), sizes (radius or half particle edge) of a file."""
-    with h5py.File(path, "r") as f:
-        g = f["particles" if kind == "mpm" else "spheres"]
-        x = np.asarray(g["position"][...], dtype=float).reshape(-1, 3)
-        m = np.asarray(g["mass"][...], dtype=float).reshape(-1)
-        d = np.asarray(g["damage"][...], dtype=float).reshape(-1) if "damage" in g else None
-        if kind == "mpm":
-            r = 0.5 * np.asarray(g["size"][...], dtype=float).reshape(-1, 3)[:, 0] if "size" in g else None
-        else:
-            r = np.asarray(g["radius"][...], dtype=float).reshape(-1)
-        t = float(h5_attr(f, "time", 0.0))
-    return t, x, m, d, r
+    if kind == "mpm":
+        t, g = read_group(path, "particles", ("position", "mass"), ("damage", "size"))
+    else:
+        t, g = read_group(path, "spheres", ("position", "mass", "radius"), ("damage",))
+    x = np.asarray(g["position"], dtype=float).reshape(-1, 3)
+    m = np.asarray(g["mass"], dtype=float).reshape(-1)
+    d = np.asarray(g["damage"], dtype=float).reshape(-1) if "damage" in g else None
+    if kind == "mpm":
+        r = 0.5 * np.asarray(g["size"], dtype=float).reshape(-1, 3)[:, 0] if "size" in g else None
+    else:
+        r = np.asarray(g["radius"], dtype=float).reshape(-1)
+    return float(t), x, m, d, r
 
 
 def parse_timing_file(path):
