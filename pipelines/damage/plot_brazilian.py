@@ -9,7 +9,6 @@ Experimental band: the Ramesh/Stickle/Kimberley basalt Brazilian data were not a
 validation-data.md section 1.3 (Nakamura+07 m=16 to BA99 m=9), ~15-35 MPa at 20-200 1/s.
 """
 import csv
-import glob
 import sys
 
 import matplotlib

@@ -18,6 +18,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+import atomic  # noqa: E402
+
 GK_RATE = np.array([1, 10, 20, 50, 100, 200, 1e3])
 GK_LO = np.array([10.8, 15.5, 17.3, 20.0, 22.3, 24.9, 32.1])  # Nakamura+07 (m = 16) [C]
 GK_HI = np.array([9.1, 16.1, 19.2, 24.1, 28.7, 34.1, 51.0])   # BA99 (m = 9) [C]
@@ -89,9 +92,7 @@ def main():
     ax.grid(alpha=0.3, which="both")
     ax.legend(fontsize=7)
     fig.tight_layout()
-    tmp = os.path.join(out, ".sampling.tmp.png")
-    fig.savefig(tmp, dpi=120)
-    os.replace(tmp, os.path.join(out, "sampling.png"))
+    atomic.save_png(fig, os.path.join(out, "sampling.png"), dpi=120, close=False)
     return 0
 
 

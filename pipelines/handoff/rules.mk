@@ -1,4 +1,4 @@
-# Hand-off studies (mpm2spheres).
+# Hand-off studies (mpm2spheres). Included by pipelines/Makefile, which declares ROOT, BUILD, RUNS, PY and JOBS.
 HANDOFF_SNAPSHOT ?= $(RUNS)/demo/fragment/final.h5
 
 .PHONY: handoff-compare handoff-bench
@@ -8,7 +8,7 @@ handoff-compare: $(BIN_HANDOFF) ## paper vs conserving method, coarsen 1-3, on o
 	$(PY) $(ROOT)/pipelines/handoff/compare.py $(BIN_HANDOFF) $(HANDOFF_SNAPSHOT) $(RUNS)/handoff-compare
 
 handoff-bench: build ## hand-off throughput on 1e6 particles, 1 and 2 threads, peak memory, snapshot I/O vs dd (table in runs/handoff-bench)
-	cmake --build $(BUILD) --target bench_handoff -j2
+	cmake --build $(BUILD) --target bench_handoff -j $(JOBS)
 	mkdir -p $(RUNS)/handoff-bench
 	$(BUILD)/tests/handoff/bench_handoff --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
 	  --benchmark_out=$(RUNS)/handoff-bench/bench.json --benchmark_out_format=json | tee $(RUNS)/handoff-bench/bench.txt

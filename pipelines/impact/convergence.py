@@ -24,6 +24,8 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from run_summary import read_run, total_wall  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+import atomic  # noqa: E402
 
 QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "hand-off KE loss"),
               ("mpm_energy_change", "MPM energy change"))
@@ -135,9 +137,7 @@ def main(argv=None):
         ax.set_title(label)
         ax.grid(alpha=0.3)
     fig.tight_layout()
-    tmp = os.path.join(a.out, ".convergence.png.tmp.png")
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, os.path.join(a.out, "convergence.png"))
+    atomic.save_png(fig, os.path.join(a.out, "convergence.png"), dpi=110, close=False)
     return 0
 
 

@@ -9,6 +9,10 @@ import json
 import math
 import os
 import re
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+from csvio import read_rows  # noqa: E402
 
 STAGES = ("fragment", "handoff", "reaccumulate", "analyse")
 
@@ -63,12 +67,10 @@ def read_run(run_dir):
             r["problems"].append(f"analysis final.beta = {r['beta']!r} (not finite)")
     # MPM energy conservation: (E_end - E_0)/E_0 of kinetic + internal (removed particles included)
     try:
-        with open(os.path.join(run_dir, "fragment", "frag_series.csv")) as f:
-            rows = [ln.strip().split(",") for ln in f if ln.strip()]
-        col = rows[0].index("total_J")
-        e0, e1 = float(rows[1][col]), float(rows[-1][col])
+        rows = read_rows(os.path.join(run_dir, "fragment", "frag_series.csv"))
+        e0, e1 = float(rows[0]["total_J"]), float(rows[-1]["total_J"])
         r["mpm_energy_change"] = (e1 - e0) / e0 if e0 else None
-    except (OSError, ValueError, IndexError):
+    except (OSError, ValueError, IndexError, KeyError, TypeError):
         r["problems"].append("fragment/frag_series.csv missing or unreadable")
     au = _load(os.path.join(run_dir, "spheres.audit.json"))
     if au is None:

@@ -4,7 +4,6 @@
 usage: bench_table.py <bench.json> <out_dir>  ->  bench.md, bench.png
 Parallel efficiency = (us/particle-step on 1 thread) / (2 * us/particle-step on 2 threads).
 """
-import json
 import os
 import sys
 
@@ -13,24 +12,24 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+import gbench  # noqa: E402
+import mdtable  # noqa: E402
+
 
 def main():
-    data = json.load(open(sys.argv[1]))
+    data = gbench.load(sys.argv[1])
     out = sys.argv[2]
     os.makedirs(out, exist_ok=True)
     med = {}
-    for b in data["benchmarks"]:
-        if b.get("aggregate_name", "median") != "median":
-            continue
-        name = b["run_name"].split("/")
-        case, threads = name[0].replace("BM_", ""), int(name[1])
-        med[(case, threads)] = b
+    for b in gbench.aggregates(data, "median", plain=True):  # a run without repetitions counts as its median
+        med[(gbench.family(b).replace("BM_", ""), gbench.args(b)[0])] = b
     cases = sorted({c for c, _ in med})
     lines = ["# mpm-frag benchmark (medians)", "",
              "Wall-clock figures; `cpu` columns are process CPU time per particle-step (the per-core cost,",
-             "insensitive to other load on a shared machine). Efficiency = t1 / (2 t2) (wall).", "",
-             "| case | particles | bytes/particle | us/pstep 1 thr | us/pstep 2 thr | per core 2 thr | efficiency 2 thr | cpu us/pstep/core 1 thr | cpu us/pstep/core 2 thr |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "insensitive to other load on a shared machine). Efficiency = t1 / (2 t2) (wall).", ""]
+    lines += mdtable.header(["case", "particles", "bytes/particle", "us/pstep 1 thr", "us/pstep 2 thr", "per core 2 thr",
+                             "efficiency 2 thr", "cpu us/pstep/core 1 thr", "cpu us/pstep/core 2 thr"])
     xs, y1, y2 = [], [], []
     for c in cases:
         b1, b2 = med.get((c, 1)), med.get((c, 2))
@@ -39,8 +38,8 @@ def main():
         t1 = b1["us_per_pstep"]
         t2 = b2["us_per_pstep"] if b2 else float("nan")
         eff = t1 / (2 * t2) if b2 else float("nan")
-        c1 = b1.get("cpu_us_per_pstep_core", float("nan"))
-        c2 = b2.get("cpu_us_per_pstep_core", float("nan")) if b2 else float("nan")
+        c1 = gbench.counter(b1, "cpu_us_per_pstep_core")
+        c2 = gbench.counter(b2, "cpu_us_per_pstep_core") if b2 else float("nan")
         lines.append("| %s | %d | %.0f | %.3f | %.3f | %.3f | %.0f %% | %.3f | %.3f |" % (
             c, b1["particles"], b1["bytes_per_particle"], t1, t2, 2 * t2, 100 * eff, c1, c2))
         xs.append(c)

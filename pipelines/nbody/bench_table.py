@@ -1,27 +1,34 @@
 #!/usr/bin/env python3
-"""Turn bench_nbody's JSON (median aggregates) into a Markdown table and a PNG of the phase split."""
-import json
+"""Turn bench_nbody's JSON (median aggregates) into a Markdown table and a PNG of the phase split.
+
+usage: bench_table.py <bench.json> <out_dir>  ->  bench.md, bench.png
+"""
 import os
 import sys
 
 import matplotlib
 matplotlib.use("Agg")
-import matplotlib.pyplot as plt
+import matplotlib.pyplot as plt  # noqa: E402
 
-data = json.load(open(sys.argv[1]))
-out = sys.argv[2]
-rows = [b for b in data["benchmarks"] if b.get("aggregate_name") == "median"]
-keys = ["N", "cpu_us", "cpu_us_gravity", "cpu_us_neighbours", "cpu_us_contacts", "cpu_us_integrate",
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+import gbench  # noqa: E402
+import mdtable  # noqa: E402
+
+KEYS = ["N", "cpu_us", "cpu_us_gravity", "cpu_us_neighbours", "cpu_us_contacts", "cpu_us_integrate",
         "wall_us_core", "contacts_per_sphere", "bytes_per_sphere"]
+PHASES = ["cpu_us_gravity", "cpu_us_neighbours", "cpu_us_contacts", "cpu_us_integrate"]
+
+rows = gbench.aggregates(gbench.load(sys.argv[1]), "median")
+out = sys.argv[2]
 with open(os.path.join(out, "bench.md"), "w") as f:
-    f.write("| benchmark | " + " | ".join(keys) + " |\n|---|" + "---|" * len(keys) + "\n")
+    f.write("\n".join(mdtable.header(["benchmark"] + KEYS)) + "\n")
     for b in rows:
-        f.write(f"| {b['run_name']} | " + " | ".join(f"{b.get(k, float('nan')):.4g}" for k in keys) + " |\n")
+        f.write(mdtable.row([b["run_name"]] + [f"{gbench.counter(b, k):.4g}" for k in KEYS]) + "\n")
 fig, ax = plt.subplots(figsize=(9, 4))
-names = [b["run_name"].replace("BM_RubblePile/", "").replace("/iterations:3/real_time", "") for b in rows]
+names = [gbench.args_label(b) for b in rows]  # N/threads/gravity interval
 bottom = [0.0] * len(rows)
-for k in ["cpu_us_gravity", "cpu_us_neighbours", "cpu_us_contacts", "cpu_us_integrate"]:
-    vals = [b.get(k, 0.0) for b in rows]
+for k in PHASES:
+    vals = [gbench.counter(b, k, 0.0) for b in rows]
     ax.bar(names, vals, bottom=bottom, label=k.replace("cpu_us_", ""))
     bottom = [x + y for x, y in zip(bottom, vals)]
 ax.axhline(1.0, color="k", ls="--", lw=0.8)

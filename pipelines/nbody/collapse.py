@@ -36,7 +36,6 @@ import subprocess
 import sys
 import time
 
-import h5py
 import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
@@ -44,6 +43,8 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(__file__))
 from common_runs import series  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+from h5io import read_group  # noqa: E402
 
 ENERGY_RISE_MAX = 1e-3   # |W0|
 RHALF_TOL = 0.05         # |r/r0 - cos^2 b| while t <= 0.6 t_ff
@@ -102,10 +103,8 @@ def cold_collapse_radius(t):
 
 
 def half_mass_radius(path):
-    with h5py.File(path, "r") as f:
-        x = f["/spheres/position"][:]
-        m = f["/spheres/mass"][:]
-        t = float(f.attrs["time"])
+    t, g = read_group(path, "spheres", ("position", "mass"))
+    x, m, t = g["position"], g["mass"], float(t)
     com = (m[:, None] * x).sum(axis=0) / m.sum()
     r = np.linalg.norm(x - com, axis=1)
     order = np.argsort(r)

@@ -1,12 +1,15 @@
 """Helpers shared by the nbody pipeline scripts: run ssdem-grav, read its outputs."""
-import csv
 import glob
 import os
 import subprocess
+import sys
 import time
 
-import h5py
 import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+from csvio import read_columns  # noqa: E402
+from h5io import read_group  # noqa: E402
 
 
 def run(exe, scene, outdir, sets, threads=1):
@@ -21,17 +24,13 @@ def run(exe, scene, outdir, sets, threads=1):
 
 
 def series(outdir):
-    with open(os.path.join(outdir, "series.csv")) as f:
-        rows = list(csv.DictReader(f))
-    return {k: np.array([float(r[k]) for r in rows]) for k in rows[0]}
+    """The run's series.csv as {column: array}."""
+    return read_columns(os.path.join(outdir, "series.csv"))
 
 
 def last_snapshot(outdir):
+    """ids, positions, radii (sorted by id) and time of the run's last snapshot."""
     path = sorted(glob.glob(os.path.join(outdir, "snap_*.h5")))[-1]
-    with h5py.File(path, "r") as f:
-        ids = f["/spheres/id"][:]
-        x = f["/spheres/position"][:]
-        r = f["/spheres/radius"][:]
-        t = f.attrs["time"]
-    order = np.argsort(ids)
-    return ids[order], x[order], r[order], t
+    t, g = read_group(path, "spheres", ("id", "position", "radius"))
+    order = np.argsort(g["id"])
+    return g["id"][order], g["position"][order], g["radius"][order], t

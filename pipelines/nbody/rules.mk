@@ -7,10 +7,7 @@
 #                    energy never created, half-mass radius against the cold collapse and shrinking
 #                    (exit 1 if a check fails). COLLAPSE_N, COLLAPSE_T (end time in free-fall times)
 #   nbody-collapse-smoke : the same at N = 2000 for 0.3 t_ff (a few seconds)
-ROOT ?= $(abspath $(dir $(lastword $(MAKEFILE_LIST)))/../..)
-BUILD ?= $(ROOT)/build
-RUNS ?= $(ROOT)/runs
-PY ?= /usr/bin/python3
+# Included by pipelines/Makefile, which declares ROOT, BUILD, RUNS, PY and JOBS.
 NBODY_DIR := $(ROOT)/pipelines/nbody
 COLLAPSE_N ?= 100000
 COLLAPSE_T ?= 1.3
@@ -18,23 +15,23 @@ COLLAPSE_T ?= 1.3
 .PHONY: nbody-accuracy nbody-bench nbody-collapse nbody-collapse-smoke
 
 nbody-accuracy: ## ssdem-grav error vs wall time across dt, theta, gravity interval (table, PNG)
-	cmake --build $(BUILD) --target ssdem-grav -j2
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-accuracy
 	$(PY) $(NBODY_DIR)/accuracy.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-accuracy
 
 nbody-bench: ## ssdem-grav throughput: us per particle-step per core (1, 2 threads), phases, bytes/sphere
-	cmake --build $(BUILD) --target bench_nbody -j2
+	cmake --build $(BUILD) --target bench_nbody -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-bench
 	$(BUILD)/tests/nbody/bench_nbody --benchmark_repetitions=3 --benchmark_report_aggregates_only=true \
 	  --benchmark_out=$(RUNS)/nbody-bench/bench.json --benchmark_out_format=json
 	$(PY) $(NBODY_DIR)/bench_table.py $(RUNS)/nbody-bench/bench.json $(RUNS)/nbody-bench
 
 nbody-collapse: ## 1e5 spheres collapsing to one region: checked energy, half-mass radius, exit code (table, PNG)
-	cmake --build $(BUILD) --target ssdem-grav -j2
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-collapse
 	$(PY) $(NBODY_DIR)/collapse.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-collapse $(COLLAPSE_N) $(COLLAPSE_T)
 
 nbody-collapse-smoke: ## nbody-collapse at N = 2000 for 0.3 free-fall times (seconds)
-	cmake --build $(BUILD) --target ssdem-grav -j2
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-collapse-smoke
 	$(PY) $(NBODY_DIR)/collapse.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-collapse-smoke 2000 0.3

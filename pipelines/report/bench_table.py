@@ -4,7 +4,6 @@
     bench_table.py BENCH_JSON OUT_DIR
 """
 import csv
-import json
 import os
 import sys
 
@@ -13,26 +12,26 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
+import gbench  # noqa: E402
+import mdtable  # noqa: E402
+
 
 def main(path, out):
-    with open(path) as f:
-        j = json.load(f)
     rows = []
-    for b in j["benchmarks"]:
-        if b.get("aggregate_name") != "median":
-            continue
-        name, n, threads = b["run_name"].split("/")[:3]
-        t = b["real_time"] * {"ms": 1e-3, "us": 1e-6, "ns": 1e-9, "s": 1.0}[b["time_unit"]]
-        n, threads = int(n), int(threads)
-        rows.append({"benchmark": name, "spheres": n, "threads": threads, "wall_s": t,
-                     "us_per_sphere": 1e6 * t / n, "us_per_sphere_per_core": 1e6 * t * threads / n})
+    for b in gbench.aggregates(gbench.load(path), "median"):
+        n, threads = gbench.args(b)[:2]  # ->Args({spheres, threads})
+        t = gbench.seconds(b)
+        rows.append({"benchmark": gbench.family(b), "spheres": n, "threads": threads, "wall_s": t,
+                     "us_per_sphere": gbench.us_per_item(b, n), "us_per_sphere_per_core": gbench.us_per_item(b, n, threads)})
     os.makedirs(out, exist_ok=True)
     with open(os.path.join(out, "bench.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
     with open(os.path.join(out, "bench.md"), "w") as f:
-        f.write("| benchmark | spheres | threads | median wall [s] | us/sphere | us/sphere/core |\n|---|---|---|---|---|---|\n")
+        f.write("\n".join(mdtable.header(["benchmark", "spheres", "threads", "median wall [s]", "us/sphere",
+                                          "us/sphere/core"])) + "\n")
         for r in rows:
             f.write(f"| {r['benchmark']} | {r['spheres']} | {r['threads']} | {r['wall_s']:.3f} | "
                     f"{r['us_per_sphere']:.3f} | {r['us_per_sphere_per_core']:.3f} |\n")

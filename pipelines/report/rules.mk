@@ -2,7 +2,6 @@
 # The impact pipeline (pipelines/impact/) calls the two tools through these variables:
 #   $(BIN_ANALYSE) SNAP... -o RUN/analysis/analysis --mpm MPM_LAST.h5 --impactor-mass M --impactor-velocity '[vx,vy,vz]' --parent-mass M_PB
 #   $(REPORT_PY) RUN [--out RUN/report]
-BIN_ANALYSE ?= $(BUILD)/nbody/analysis/ssdem-analyse
 REPORT_PY   ?= $(PY) $(ROOT)/pipelines/report/make_report.py
 
 .PHONY: report-selftest analysis-bench
