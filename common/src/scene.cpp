@@ -1,4 +1,5 @@
 // Scene: TOML parsing (toml++), --set overrides, validation against a Schema, accessors.
+#include <spdlog/spdlog.h>
 #include <toml++/toml.h>
 
 #include <algorithm>
@@ -22,6 +23,7 @@ class SceneData {
   std::string prefix;                    // "body[1]." for elements
   std::set<std::string> given;
   std::map<std::string, std::set<std::string>> element_given;  // by element prefix
+  std::shared_ptr<const std::set<std::string>> overridden;      // keys set by --set, as written
 
   const ParamSpec* find(const std::string& key) const {
     for (const Schema* s : active)
@@ -200,6 +202,49 @@ std::size_t edit_distance(const std::string& a, const std::string& b) {
 
 void validate(SceneData& d);
 
+/// Remove the value at dotted `key`, then the tables that this leaves empty.
+void erase_key(toml::table& t, const std::string& key) {
+  const auto parts = split_dots(key);
+  std::vector<toml::table*> chain{&t};
+  for (std::size_t i = 0; i + 1 < parts.size(); ++i) {
+    toml::node* n = chain.back()->get(parts[i]);
+    if (!n || !n->as_table()) return;
+    chain.push_back(n->as_table());
+  }
+  chain.back()->erase(parts.back());
+  for (std::size_t i = chain.size() - 1; i > 0 && chain[i]->empty(); --i) chain[i - 1]->erase(parts[i - 1]);
+}
+
+/// Read the deprecated keys of `s` (Schema::add_alias) as their new names, with a warning.
+/// Old and new both given in the file (or both by --set) is an error; when one of them comes
+/// from --set, the --set value wins (as any --set does over the file).
+void resolve_aliases(SceneData& d, const Schema& s) {
+  for (const AliasSpec& a : s.aliases()) {
+    const toml::node* old_node = lookup(d.table, a.old_key);
+    if (!old_node) continue;
+    const std::string old_full = d.prefix + a.old_key, new_full = d.prefix + a.new_key;
+    const bool old_set = d.overridden && d.overridden->count(old_full) > 0;
+    const bool new_set = d.overridden && d.overridden->count(new_full) > 0;
+    const std::string origin = old_set ? std::string("--set") : d.source;
+    spdlog::warn("{}: '{}' is deprecated, use '{}' (the old name is read for one release)", origin, old_full,
+                 new_full);
+    if (lookup(d.table, a.new_key)) {
+      if (old_set == new_set)
+        throw InputError(origin, old_full,
+                         "deprecated name of '" + new_full + "', and both are given; keep only '" + new_full + "'");
+      if (new_set) {
+        erase_key(d.table, a.old_key);
+        continue;
+      }
+    }
+    toml::table held;
+    held.insert_or_assign("v", *old_node);
+    erase_key(d.table, a.old_key);
+    std::string leaf;
+    table_for(d.table, a.new_key, leaf).insert_or_assign(leaf, *held.get("v"));
+  }
+}
+
 /// Walk the table and reject keys the (active) schema does not declare.
 void reject_unknown(const SceneData& d, const toml::table& t, const std::string& path,
                     const std::vector<std::string>& declared) {
@@ -227,6 +272,7 @@ void reject_unknown(const SceneData& d, const toml::table& t, const std::string&
 
 void validate(SceneData& d) {
   d.active = {d.schema.get()};
+  resolve_aliases(d, *d.schema);
   // Resolve style switches first: their choice decides which extra keys are valid.
   for (const auto& sw : d.schema->style_switches()) {
     const ParamSpec* p = d.schema->find(sw.key);
@@ -242,6 +288,7 @@ void validate(SceneData& d) {
     auto it = sw.styles.find(style);
     if (it != sw.styles.end()) d.active.push_back(&it->second);
   }
+  for (std::size_t i = 1; i < d.active.size(); ++i) resolve_aliases(d, *d.active[i]);
   std::vector<std::string> declared;
   for (const Schema* s : d.active) {
     for (const auto& p : s->params()) declared.push_back(p.key);
@@ -278,6 +325,7 @@ void validate(SceneData& d) {
           e.schema = a.element;
           e.source = d.source;
           e.prefix = d.prefix + a.key + "[" + std::to_string(i) + "].";
+          e.overridden = d.overridden;
           validate(e);
           d.element_given[e.prefix] = e.given;
           d.element_given.merge(e.element_given);
@@ -389,7 +437,12 @@ Scene Scene::parse(const Schema& schema, const std::string& toml_text, const std
       << ": " << e.description();
     throw InputError(source_name, "", o.str());
   }
-  for (const auto& ov : overrides) apply_override(s.d_->table, ov);
+  auto overridden = std::make_shared<std::set<std::string>>();
+  for (const auto& ov : overrides) {
+    apply_override(s.d_->table, ov);
+    overridden->insert(ov.substr(0, ov.find('=')));
+  }
+  s.d_->overridden = std::move(overridden);
   validate(*s.d_);
   return s;
 }
@@ -457,6 +510,11 @@ std::string Scene::to_toml() const {
   std::ostringstream o;
   o << d_->table << "\n";
   return o.str();
+}
+
+void Scene::throw_not_in_table(const std::string& key, const std::string& value) const {
+  throw InputError(d_->source, d_->prefix + key,
+                   "value \"" + value + "\" is not in the choice table it is read with (internal error)");
 }
 
 const std::string& Scene::source() const { return d_->source; }

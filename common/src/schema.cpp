@@ -63,6 +63,9 @@ void describe(std::ostringstream& o, const Schema& s, const std::string& prefix,
     }
     if (!p.help.empty()) o << indent << "    " << p.help << "\n";
   }
+  for (const auto& a : s.aliases())
+    o << indent << prefix << a.old_key << "  DEPRECATED: use " << prefix << a.new_key
+      << " (the old name is read, with a warning, for one release)\n";
   for (const auto& sw : s.style_switches()) {
     for (const auto& [name, st] : sw.styles) {
       if (st.params().empty() && st.table_arrays().empty()) continue;
@@ -83,6 +86,8 @@ void describe(std::ostringstream& o, const Schema& s, const std::string& prefix,
 Schema& Schema::add(ParamSpec spec) {
   if (find(spec.key) || find_array(spec.key))
     throw std::logic_error("schema: key '" + spec.key + "' declared twice");
+  for (const auto& a : aliases_)
+    if (a.old_key == spec.key) throw std::logic_error("schema: key '" + spec.key + "' is a deprecated alias");
   params_.push_back(std::move(spec));
   return *this;
 }
@@ -137,6 +142,8 @@ Schema& Schema::add_real_list(const std::string& key, std::optional<std::vector<
 Schema& Schema::add_table_array(const std::string& key, const std::string& help,
                                 std::size_t min_count, std::size_t max_count) {
   if (find(key) || find_array(key)) throw std::logic_error("schema: key '" + key + "' declared twice");
+  for (const auto& a : aliases_)
+    if (a.old_key == key) throw std::logic_error("schema: key '" + key + "' is a deprecated alias");
   arrays_.push_back({key, help, std::make_shared<Schema>(), min_count, max_count});
   return *arrays_.back().element;
 }
@@ -180,6 +187,22 @@ Schema& Schema::include(const std::string& prefix, const Schema& other) {
     }
     switches_.push_back(std::move(sw));
   }
+  for (auto a : other.aliases_) {
+    a.old_key = pre + a.old_key;
+    a.new_key = pre + a.new_key;
+    aliases_.push_back(std::move(a));
+  }
+  return *this;
+}
+
+Schema& Schema::add_alias(const std::string& old_key, const std::string& new_key) {
+  if (!find(new_key) && !find_array(new_key))
+    throw std::logic_error("schema: alias target '" + new_key + "' is not declared");
+  if (find(old_key) || find_array(old_key))
+    throw std::logic_error("schema: alias '" + old_key + "' is a declared key");
+  for (const auto& a : aliases_)
+    if (a.old_key == old_key) throw std::logic_error("schema: alias '" + old_key + "' declared twice");
+  aliases_.push_back({old_key, new_key});
   return *this;
 }
 

@@ -15,10 +15,10 @@ common::Schema handoff_schema() {
                "mpm-frag <prefix>_outflow.h5 (particles removed at the grid edge, grid.outflow = \"remove\"): "
                "handed off with the same one-sphere-per-cell rule on the lattice extended past the grid (empty: none)");
   s.add_string("output", std::nullopt, "sphere file (format ssdem.spheres) to write; an .xmf sidecar is written beside it");
-  s.add_choice("method", std::string("paper"), {"paper", "conserving"},
+  s.add_choice("method", HandoffMethod::paper, kHandoffMethods,
                "paper: El Mir et al. 2019 (mass and momentum exact, KE loss reported); conserving: paper spheres "
                "then a global velocity/spin correction restoring KE and angular momentum exactly");
-  s.add_choice("shape", std::string("ugimp"), {"ugimp", "linear"}, "MPM shape functions for the projection (as in mpm-frag)");
+  s.add_choice("shape", mpmfrag::ShapeKind::ugimp, mpmfrag::kShapeKinds, "MPM shape functions for the projection (as in mpm-frag)");
   s.add_int("coarsen", 1, 1, 64, "sphere cell edge in MPM cells (spheres of radius coarsen*h/2)");
   s.add_string("carry", std::string("damage"),
                "comma-separated scalar particle fields mass-averaged onto the spheres (missing defaults are skipped)");
@@ -29,7 +29,7 @@ common::Schema handoff_schema() {
              "fail with exit code 3 (no sphere file written) if the relative kinetic-energy loss exceeds this");
   s.add_string("audit.json", std::string(""), "audit JSON path (default: <output without .h5>.audit.json)");
   s.add_string("export.ss", std::string(""), "also write a pkdgrav .ss file here (empty: none)");
-  s.add_choice("export.ss_units", std::string("pkdgrav"), {"pkdgrav", "si"}, "units of the .ss file (pkdgrav: G = 1, AU, M_sun)");
+  s.add_choice("export.ss_units", SsUnitSystem::pkdgrav, kSsUnitSystems, "units of the .ss file (pkdgrav: G = 1, AU, M_sun)");
   s.add_int("export.ss_color", 3, 0, 255, "pkdgrav colour code written for every sphere");
   return s;
 }
@@ -39,8 +39,8 @@ HandoffConfig handoff_config(const common::Scene& sc) {
   c.input = sc.string("input");
   c.output = sc.string("output");
   c.outflow = sc.string("outflow");
-  c.method = sc.string("method");
-  c.projection.shape = mpmfrag::parse_shape_kind(sc.string("shape"));
+  c.method = sc.choice("method", kHandoffMethods);
+  c.projection.shape = sc.choice("shape", mpmfrag::kShapeKinds);
   c.projection.coarsen = static_cast<int>(sc.integer("coarsen"));
   std::stringstream fields(sc.string("carry"));
   for (std::string f; std::getline(fields, f, ',');) {
@@ -62,7 +62,7 @@ HandoffConfig handoff_config(const common::Scene& sc) {
     c.audit_json = (p.parent_path() / (p.stem().string() + ".audit.json")).string();
   }
   c.ss_path = sc.string("export.ss");
-  c.ss_units = sc.string("export.ss_units");
+  c.ss_units = sc.choice("export.ss_units", kSsUnitSystems);
   c.ss_color = static_cast<int>(sc.integer("export.ss_color"));
   return c;
 }

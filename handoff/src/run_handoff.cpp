@@ -50,7 +50,7 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
   }
   HandoffOutcome out;
   Audit& a = out.audit;
-  a.method = cfg.method;
+  a.method = std::string(common::choice_name(kHandoffMethods, cfg.method));
   // Without selection rules every particle is handed off: no index lists, no copies.
   const bool selecting = cfg.select.active();
   const Selection sel = selecting ? select_particles(snap, cfg.select, cfg.input) : Selection{};
@@ -80,7 +80,7 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
     a.outflow_spheres = append_outflow(subset(*outflow, osel.kept), snap.grid, snap.time, out.result, cfg.outflow);
   }
   common::SphereSet& sph = out.result.spheres;
-  if (cfg.method == "conserving") {
+  if (cfg.method == HandoffMethod::conserving) {
     const ConservingResult cr = apply_conserving(sph, a.before);
     a.exact = cr.exact;
     a.note = cr.exact ? "lambda = " + std::to_string(cr.lambda) : cr.note;
@@ -124,13 +124,13 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
                                                  "sphere_particle_offset[s+1]] of the input snapshot"));
     h5::write_attr(g, "input", cfg.input);
     h5::write_attr(g, "outflow", cfg.outflow);
-    h5::write_attr(g, "method", cfg.method);
+    h5::write_attr(g, "method", a.method);
     h5::write_attr(g, "coarsen", static_cast<std::int64_t>(cfg.projection.coarsen));
     h5::write_attr(g, "kernels", out.result.kernels);  // "avx2" or "portable": same results, bit for bit
     write_audit_h5(f, a);
   });
   if (!cfg.ss_path.empty())
-    write_ss(cfg.ss_path, out.result.spheres, cfg.ss_units == "si" ? SsUnits::si() : SsUnits::pkdgrav(), cfg.ss_color);
+    write_ss(cfg.ss_path, out.result.spheres, cfg.ss_units == SsUnitSystem::si ? SsUnits::si() : SsUnits::pkdgrav(), cfg.ss_color);
   spdlog::info("wrote {} spheres to {} (audit {})", out.result.spheres.count(), cfg.output, cfg.audit_json);
   return 0;
 }

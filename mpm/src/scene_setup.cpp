@@ -3,9 +3,11 @@
 #include "mpm/scene_setup.hpp"
 
 #include <Eigen/Geometry>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <map>
 
 #include "common/status.hpp"
 
@@ -13,6 +15,16 @@ namespace mpmfrag {
 namespace {
 
 constexpr double kBig = 1e30;
+
+enum class BodyShape { sphere, box, cylinder };
+constexpr std::array kBodyShapes{common::Choice{"sphere", BodyShape::sphere}, common::Choice{"box", BodyShape::box},
+                                 common::Choice{"cylinder", BodyShape::cylinder}};
+
+enum class Axis { x, y, z };  // the value is the coordinate index
+constexpr std::array kAxes{common::Choice{"x", Axis::x}, common::Choice{"y", Axis::y}, common::Choice{"z", Axis::z}};
+
+enum class Outflow { stop, remove };
+constexpr std::array kOutflows{common::Choice{"stop", Outflow::stop}, common::Choice{"remove", Outflow::remove}};
 
 common::Schema body_shapes_sphere() {
   common::Schema s("sphere");
@@ -29,10 +41,20 @@ common::Schema body_shapes_box() {
 common::Schema body_shapes_cylinder() {
   common::Schema s("cylinder");
   s.add_vec3("center", std::nullopt, "m", -kBig, kBig, "centre of the cylinder (mid-length)");
-  s.add_choice("axis", std::string("z"), {"x", "y", "z"}, "cylinder axis");
+  s.add_choice("axis", Axis::z, kAxes, "cylinder axis");
   s.add_real("radius", std::nullopt, "m", 0.0, kBig, "radius", true);
   s.add_real("length", std::nullopt, "m", 0.0, kBig, "length along the axis (a thin disk: one cell)", true);
   return s;
+}
+
+/// The style schema of each body shape (keys valid only for that shape).
+std::map<std::string, common::Schema> body_shape_styles() {
+  std::map<std::string, common::Schema> styles;
+  for (const auto& c : kBodyShapes)
+    styles.emplace(c.name, c.value == BodyShape::sphere ? body_shapes_sphere()
+                           : c.value == BodyShape::box  ? body_shapes_box()
+                                                        : body_shapes_cylinder());
+  return styles;
 }
 
 struct Primitive {
@@ -42,15 +64,15 @@ struct Primitive {
 
 Primitive make_primitive(const common::Scene& b, const std::string& where) {
   Primitive p;
-  const std::string shape = b.string("shape");
-  if (shape == "sphere") {
+  const BodyShape shape = b.choice("shape", kBodyShapes);
+  if (shape == BodyShape::sphere) {
     const Eigen::Vector3d c = b.vec3("center");
     const double r = b.real("radius");
     p.inside = [c, r](const Eigen::Vector3d& x) { return (x - c).squaredNorm() <= r * r; };
     p.lo = c.array() - r;
     p.hi = c.array() + r;
     p.center = c;
-  } else if (shape == "box") {
+  } else if (shape == BodyShape::box) {
     const Eigen::Vector3d lo = b.vec3("min"), hi = b.vec3("max");
     if (!((hi - lo).minCoeff() > 0)) throw common::InputError(where, "max", "box max must exceed min in every axis");
     p.inside = [lo, hi](const Eigen::Vector3d& x) { return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all(); };
@@ -60,8 +82,7 @@ Primitive make_primitive(const common::Scene& b, const std::string& where) {
   } else {
     const Eigen::Vector3d c = b.vec3("center");
     const double r = b.real("radius"), len = b.real("length");
-    const std::string ax = b.string("axis");
-    const int a = ax == "x" ? 0 : ax == "y" ? 1 : 2;
+    const int a = static_cast<int>(b.choice("axis", kAxes));
     p.inside = [c, r, len, a](const Eigen::Vector3d& x) {
       Eigen::Vector3d d = x - c;
       const double along = d[a];
@@ -85,19 +106,18 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_vec3("grid.domain_max", std::nullopt, "m", -kBig, kBig, "upper corner of the simulation domain");
   s.add_real("grid.cell_size", std::nullopt, "m", 0.0, kBig, "cubic cell edge h", true);
   s.add_int("grid.ghost_layers", 2, 1, 8, "node layers outside each domain face");
-  s.add_choice("grid.outflow", std::string("stop"), {"stop", "remove"},
+  s.add_choice("grid.outflow", Outflow::stop, kOutflows,
                "a particle whose stencil leaves the grid: stop the run (exit 3, state saved) or remove it "
                "from the grid computation (it then flies ballistically, is kept in <prefix>_outflow.h5 "
                "and stays in the conserved totals)");
 
-  s.add_choice("solver.shape", std::string("ugimp"), {"ugimp", "linear"}, "interpolation: uGIMP (default) or classic linear MPM");
+  s.add_choice("solver.shape", ShapeKind::ugimp, kShapeKinds, "interpolation: uGIMP (default) or classic linear MPM");
   s.add_choice("solver.scheme", std::string("musl"), {"usl", "usf", "musl"}, "stress-update order");
   s.add_real("solver.flip", 1.0, "1", 0.0, 1.0, "FLIP fraction of the particle velocity update (1 = FLIP, 0 = PIC)");
   s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(c + |v|)", true);
   s.add_real("solver.min_mass_fraction", 0.0, "1", 0.0, 1.0,
              "nodes lighter than this fraction of the smallest particle mass get no acceleration "
              "(0 = off, exact momentum conservation; uGIMP needs none, use ~1e-2 with linear shape functions)");
-  s.add_vec3("solver.gravity", Eigen::Vector3d::Zero(), "m/s^2", -kBig, kBig, "uniform gravitational acceleration");
   s.add_bool("solver.artificial_viscosity.enabled", false, "bulk artificial viscosity (linear + quadratic), for shocks");
   s.add_real("solver.artificial_viscosity.a1", 0.2, "1", 0.0, 10.0, "linear coefficient A1");
   s.add_real("solver.artificial_viscosity.a2", 2.0, "1", 0.0, 10.0, "quadratic coefficient A2");
@@ -105,6 +125,9 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   for (const char* f : {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"})
     s.add_choice(std::string("boundary.") + f, std::string("free"), {"free", "fixed", "symmetry"},
                  std::string("condition on the domain face ") + f);
+
+  s.add_vec3("gravity.uniform", Eigen::Vector3d::Zero(), "m/s^2", -kBig, kBig,
+             "uniform gravitational acceleration (as in ssdem-grav)");
 
   s.add_real("time.end", std::nullopt, "s", 0.0, kBig, "end time", true);
   s.add_real("time.dt_max", 1e30, "s", 0.0, kBig, "upper bound on dt (the CFL limit always applies)", true);
@@ -114,11 +137,14 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_string("output.prefix", std::string("mpm"), "file name prefix");
   s.add_real("output.snapshot_interval", 0.0, "s", 0.0, kBig, "time between particle snapshots (0: initial and final only)");
   s.add_int("output.series_every", 10, 1, 1000000000, "steps between rows of the time-series CSV");
+  s.add_real("output.progress_interval", 10.0, "s", 0.0, kBig, "wall-clock seconds between progress lines");
 
   s.add_int("run.seed", 0, 0, std::numeric_limits<long long>::max(), "random seed (keyed per particle id)");
   s.add_int("run.backup_every", 20, 1, 1000000000, "steps between copies of the last good state (saved on failure)");
-  s.add_real("run.progress_interval", 10.0, "s", 0.0, kBig, "wall-clock seconds between progress lines");
   s.add_int("run.threads", 0, 0, 4096, "OpenMP threads (0 = OMP_NUM_THREADS / all)");
+  // renamed keys, read with a warning for one release (same names as ssdem-grav)
+  s.add_alias("run.progress_interval", "output.progress_interval");
+  s.add_alias("solver.gravity", "gravity.uniform");
 
   common::Schema& m = s.add_table_array("material", "materials (one per [[material]])", 1);
   m.add_string("name", std::nullopt, "name referenced by bodies");
@@ -129,31 +155,31 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   common::Schema& b = s.add_table_array("body", "bodies (one per [[body]])", 1);
   b.add_string("name", std::string(""), "label (for messages)");
   b.add_string("material", std::nullopt, "name of a [[material]]");
-  b.add_choice("shape", std::nullopt, {"sphere", "box", "cylinder"}, "primitive");
+  b.add_choice("shape", std::nullopt, kBodyShapes, "primitive");
   b.add_vec3("velocity", Eigen::Vector3d::Zero(), "m/s", -kBig, kBig, "initial velocity");
   b.add_vec3("angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -kBig, kBig,
              "initial rigid rotation about the primitive centre");
   b.add_int("ppc", 2, 1, 8, "particles per cell per axis");
-  b.add_style_switch("shape", {{"sphere", body_shapes_sphere()}, {"box", body_shapes_box()}, {"cylinder", body_shapes_cylinder()}});
+  b.add_style_switch("shape", body_shape_styles());
   return s;
 }
 
 Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   Setup st;
   SolverConfig& c = st.solver;
-  c.shape = parse_shape_kind(sc.string("solver.shape"));
+  c.shape = sc.choice("solver.shape", kShapeKinds);
   c.scheme = parse_scheme(sc.string("solver.scheme"));
   c.flip = sc.real("solver.flip");
   c.courant = sc.real("solver.courant");
   c.min_mass_fraction = sc.real("solver.min_mass_fraction");
-  c.gravity = sc.vec3("solver.gravity");
+  c.gravity = sc.vec3("gravity.uniform");
   c.artificial_viscosity = sc.boolean("solver.artificial_viscosity.enabled");
   c.av_a1 = sc.real("solver.artificial_viscosity.a1");
   c.av_a2 = sc.real("solver.artificial_viscosity.a2");
   c.reorder_every = static_cast<int>(sc.integer("solver.reorder_every"));
   c.dt_max = sc.real("time.dt_max");
   c.ghost_layers = static_cast<int>(sc.integer("grid.ghost_layers"));
-  c.outflow_remove = sc.string("grid.outflow") == "remove";
+  c.outflow_remove = sc.choice("grid.outflow", kOutflows) == Outflow::remove;
   c.seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
   const char* faces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
   for (int f = 0; f < 6; ++f) c.boundary[f] = parse_boundary(sc.string(std::string("boundary.") + faces[f]));
@@ -166,7 +192,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   r.snapshot_interval = sc.real("output.snapshot_interval");
   r.series_every = static_cast<int>(sc.integer("output.series_every"));
   r.backup_every = static_cast<int>(sc.integer("run.backup_every"));
-  r.progress_interval = sc.real("run.progress_interval");
+  r.progress_interval = sc.real("output.progress_interval");
   r.threads = static_cast<int>(sc.integer("run.threads"));
 
   const Eigen::Vector3d lo = sc.vec3("grid.domain_min"), hi = sc.vec3("grid.domain_max");

@@ -8,12 +8,12 @@
 namespace mpmfrag {
 
 ShapeKind parse_shape_kind(const std::string& name) {
-  if (name == "ugimp" || name == "gimp") return ShapeKind::ugimp;
-  if (name == "linear") return ShapeKind::linear;
+  if (const auto k = common::choice_value(kShapeKinds, name)) return *k;
+  if (name == "gimp") return ShapeKind::ugimp;
   throw std::invalid_argument("unknown shape function '" + name + "' (ugimp, linear)");
 }
 
-const char* shape_kind_name(ShapeKind k) { return k == ShapeKind::ugimp ? "ugimp" : "linear"; }
+const char* shape_kind_name(ShapeKind k) { return common::choice_name(kShapeKinds, k).data(); }
 
 std::vector<StencilNode> stencil_nodes(ShapeKind kind, const common::GridInfo& grid,
                                        const Eigen::Vector3d& x, const Eigen::Vector3d& lp) {

@@ -99,14 +99,14 @@ void register_builtin_contact_parts(ContactPartRegistry& reg) {
                       "damping part)",
                       true);
     i.schema.add_real("mu_s", 1.0, "1", 0.0, 100.0, "static friction coefficient mu_s");
-    i.schema.add_choice("slip", std::string("coulomb"), {"coulomb", "pkdgrav"},
+    i.schema.add_choice("slip", SlipRule::coulomb, kSlipRules,
                         "slip rule: coulomb (rescale to mu_s|F_N|) or pkdgrav (zero S, "
                         "min(mu_s|F_N|, C_t|u_t|))");
     i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
       p.kt_over_kn = s.real(pre + "kt_over_kn");
       p.et = s.real(pre + "et");
       p.mu_s = s.real(pre + "mu_s");
-      p.slip = s.string(pre + "slip") == "pkdgrav" ? SlipRule::pkdgrav : SlipRule::coulomb;
+      p.slip = s.choice(pre + "slip", kSlipRules);
     };
     reg.add(std::move(i));
   }

@@ -59,7 +59,7 @@ std::string series_to_continue(const std::string& path, std::int64_t step) {
 }  // namespace
 
 int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
-  const std::string dir = sc.string("output.dir");
+  const std::string dir = sc.string("output.directory");
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec) throw common::IoError(dir + ": cannot create output directory: " + ec.message());
@@ -109,7 +109,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   const std::int64_t k = cfg.gravity_every;
   std::int64_t series_every = sc.integer("output.series_every");
   series_every = (series_every + k - 1) / k * k;
-  const double snap_dt = sc.real("output.snapshot_every");
+  const double snap_dt = sc.real("output.snapshot_interval");
   std::vector<double> times = sc.real_list("output.times");
   std::sort(times.begin(), times.end());
   const std::int64_t ckpt_every = sc.integer("output.checkpoint_every");

@@ -1,6 +1,7 @@
 // ssdem-grav scene schema and setup (scene_setup.hpp).
 #include "ssdem/scene_setup.hpp"
 
+#include <array>
 #include <cmath>
 #include <sstream>
 
@@ -12,6 +13,28 @@
 #include "ssdem/io.hpp"
 
 namespace ssdem {
+namespace {
+
+enum class InitialSource { file, lattice_pile, random_pile, two_bodies };
+constexpr std::array kInitialSources{common::Choice{"file", InitialSource::file},
+                                     common::Choice{"lattice_pile", InitialSource::lattice_pile},
+                                     common::Choice{"random_pile", InitialSource::random_pile},
+                                     common::Choice{"two_bodies", InitialSource::two_bodies}};
+
+enum class GravitySolver { tree, direct };
+constexpr std::array kGravitySolvers{common::Choice{"tree", GravitySolver::tree},
+                                     common::Choice{"direct", GravitySolver::direct}};
+
+enum class ContactPreset { none, gravel };
+constexpr std::array kContactPresets{common::Choice{"none", ContactPreset::none},
+                                     common::Choice{"gravel", ContactPreset::gravel}};
+
+enum class Predictor { automatic, extrapolated, pkdgrav };
+constexpr std::array kPredictors{common::Choice{"auto", Predictor::automatic},
+                                 common::Choice{"extrapolated", Predictor::extrapolated},
+                                 common::Choice{"pkdgrav", Predictor::pkdgrav}};
+
+}  // namespace
 
 const ContactPartRegistry& builtin_contact_parts() {
   static const ContactPartRegistry reg = [] {
@@ -34,8 +57,7 @@ common::Schema ssdem_schema() {
   s.add_real("time.min_steps_per_contact", 10.0, "1", 1.0, 1e6,
              "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
   // initial condition
-  s.add_choice("initial.source", std::string("lattice_pile"),
-               {"file", "lattice_pile", "random_pile", "two_bodies"},
+  s.add_choice("initial.source", InitialSource::lattice_pile, kInitialSources,
                "initial condition: an ssdem.spheres file or a generator");
   s.add_string("initial.file", std::string(""), "ssdem.spheres input file (initial.source = file)");
   s.add_real("initial.body_radius", 10.0, "m", 0.0, inf, "radius of the (first) body", true);
@@ -43,7 +65,6 @@ common::Schema ssdem_schema() {
   s.add_real("initial.density", 2000.0, "kg/m^3", 0.0, inf, "grain (sphere material) density", true);
   s.add_real("initial.jitter", 0.0, "1", 0.0, 0.5, "relative random shrink of generated radii");
   s.add_int("initial.count", 1000, 1, 100000000, "number of spheres (random_pile)");
-  s.add_int("initial.seed", 1, 0, 1LL << 62, "random seed (keyed by sphere id)");
   s.add_vec3("initial.velocity", Eigen::Vector3d::Zero(), "m/s", -inf, inf, "bulk velocity of body 1");
   s.add_vec3("initial.angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -inf, inf,
              "rigid rotation of body 1 about its centre");
@@ -54,7 +75,7 @@ common::Schema ssdem_schema() {
              "velocity of body 2 (two_bodies)");
   // gravity
   s.add_bool("gravity.self", true, "self-gravity on/off (off: no tree is built)");
-  s.add_choice("gravity.solver", std::string("tree"), {"tree", "direct"},
+  s.add_choice("gravity.solver", GravitySolver::tree, kGravitySolvers,
                "tree (Barnes-Hut octree, quadrupoles) or direct summation (reference, small N)");
   s.add_real("gravity.G", 6.674e-11, "m^3/(kg s^2)", 0.0, inf, "gravitational constant");
   s.add_real("gravity.theta", 0.3, "1", 0.0, 1.0,
@@ -65,7 +86,7 @@ common::Schema ssdem_schema() {
   s.add_vec3("gravity.uniform", Eigen::Vector3d::Zero(), "m/s^2", -inf, inf, "uniform gravity field");
   // contacts
   s.add_bool("contact.enabled", true, "soft-sphere contacts on/off (off: no neighbour list)");
-  s.add_choice("contact.preset", std::string("none"), {"none", "gravel"},
+  s.add_choice("contact.preset", ContactPreset::none, kContactPresets,
                "parameter preset for keys not given explicitly: gravel = e_n = e_t = 0.55, "
                "mu_s = 1.0, mu_r = 1.05, mu_t = 1.3, beta = 0.5, all parts (ssdem.md §1.8)");
   builtin_contact_parts().declare(s);
@@ -74,7 +95,7 @@ common::Schema ssdem_schema() {
              "contact.normal.kn = 0; 0 = 1.2 x escape speed of the initial body");
   s.add_real("contact.overlap_fraction", 0.01, "1", 0.0, 1.0,
              "allowed overlap / radius for the k_n rule", true);
-  s.add_choice("contact.predictor", std::string("auto"), {"auto", "extrapolated", "pkdgrav"},
+  s.add_choice("contact.predictor", Predictor::automatic, kPredictors,
                "velocity predictor for the dashpots: extrapolated (v + h/2 (2a_n - a_{n-1}); e_n "
                "error 1.2e-4 at 50 steps) or pkdgrav (v + h/2 a_n; 1.4e-3). The extrapolation "
                "amplifies strongly damped modes when a contact is resolved by few steps (a 3 km sphere "
@@ -89,8 +110,8 @@ common::Schema ssdem_schema() {
     w.add_vec3("normal", Eigen::Vector3d::UnitZ(), "1", -inf, inf, "normal pointing into the domain");
   }
   // output
-  s.add_string("output.dir", std::string("ssdem_out"), "output directory");
-  s.add_real("output.snapshot_every", 0.0, "s", 0.0, inf, "snapshot interval (0 = none)");
+  s.add_string("output.directory", std::string("ssdem_out"), "output directory");
+  s.add_real("output.snapshot_interval", 0.0, "s", 0.0, inf, "snapshot interval (0 = none)");
   s.add_real_list("output.times", std::vector<double>{}, "s", 0.0, inf,
                   "extra snapshot times (first block boundary at or after each)");
   s.add_int("output.series_every", 100, 1, 1LL << 40,
@@ -99,13 +120,19 @@ common::Schema ssdem_schema() {
              "checkpoint every this many wall-clock seconds (0 = only at the end / on signals)");
   s.add_int("output.checkpoint_every", 0, 0, 1LL << 40, "checkpoint every N steps (0 = off)");
   s.add_real("output.progress_interval", 10.0, "s", 0.0, inf, "wall-clock seconds between progress lines");
+  // run
+  s.add_int("run.seed", 1, 0, 1LL << 62, "random seed (keyed by sphere id)");
+  // renamed keys, read with a warning for one release (same names as mpm-frag)
+  s.add_alias("output.dir", "output.directory");
+  s.add_alias("output.snapshot_every", "output.snapshot_interval");
+  s.add_alias("initial.seed", "run.seed");
   return s;
 }
 
 Spheres initial_spheres(const common::Scene& sc) {
-  const std::string src = sc.string("initial.source");
+  const InitialSource src = sc.choice("initial.source", kInitialSources);
   Spheres sp;
-  if (src == "file") {
+  if (src == InitialSource::file) {
     const std::string f = sc.string("initial.file");
     if (f.empty()) throw common::InputError(sc.where("initial.file") + ": required for source = file");
     sp = from_sphere_set(common::read_sphere_set(f));
@@ -114,15 +141,15 @@ Spheres initial_spheres(const common::Scene& sc) {
   }
   const double R = sc.real("initial.body_radius"), s = sc.real("initial.sphere_radius");
   const double rho = sc.real("initial.density"), jit = sc.real("initial.jitter");
-  const auto seed = static_cast<std::uint64_t>(sc.integer("initial.seed"));
+  const auto seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
   if (s > R) throw common::InputError(sc.where("initial.sphere_radius") + ": larger than the body radius");
-  if (src == "random_pile")
+  if (src == InitialSource::random_pile)
     sp = random_cloud(static_cast<std::size_t>(sc.integer("initial.count")), R, s, rho, seed);
   else
     sp = lattice_pile(R, s, rho, jit, seed);
   const Vec3 v = sc.vec3("initial.velocity"), W = sc.vec3("initial.angular_velocity");
   for (std::size_t i = 0; i < sp.size(); ++i) sp.v[i] = v + W.cross(sp.x[i]);
-  if (src == "two_bodies") {
+  if (src == InitialSource::two_bodies) {
     const Spheres b = lattice_pile(sc.real("initial.body2_radius"), s, rho, jit, seed + 1);
     append_body(sp, b, sc.vec3("initial.body2_offset"), sc.vec3("initial.body2_velocity"));
   }
@@ -134,7 +161,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
   SimConfig c;
   std::ostringstream os;
   c.self_gravity = sc.boolean("gravity.self");
-  c.direct_gravity = sc.string("gravity.solver") == "direct";
+  c.direct_gravity = sc.choice("gravity.solver", kGravitySolvers) == GravitySolver::direct;
   c.gravity.G = sc.real("gravity.G");
   c.gravity.theta = sc.real("gravity.theta");
   c.gravity.bucket = static_cast<int>(sc.integer("gravity.bucket"));
@@ -155,7 +182,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
   com /= M;
   if (c.contacts) {
     ContactParams p = builtin_contact_parts().resolve(sc);
-    if (sc.string("contact.preset") == "gravel") {
+    if (sc.choice("contact.preset", kContactPresets) == ContactPreset::gravel) {
       const ContactParams g = gravel_preset(p.kn);
       if (!sc.given("contact.parts")) p.parts = g.parts;
       if (!sc.given("contact.damping.en")) p.en = g.en;
@@ -195,10 +222,12 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       c.dt = tau_min / sc.real("time.steps_per_contact");
       os << "dt = " << c.dt << " s (tau_min / " << sc.real("time.steps_per_contact") << ")\n";
     }
-    const std::string pred = sc.string("contact.predictor");
-    c.extrapolated_predictor = pred == "extrapolated" || (pred == "auto" && tau_min >= 8.0 * c.dt);
-    os << "dashpot velocity predictor: " << (c.extrapolated_predictor ? "extrapolated" : "pkdgrav")
-       << (pred == "auto" ? " (auto: " + std::to_string(tau_min / c.dt) + " steps per shortest contact)" : "") << "\n";
+    const Predictor pred = sc.choice("contact.predictor", kPredictors);
+    c.extrapolated_predictor =
+        pred == Predictor::extrapolated || (pred == Predictor::automatic && tau_min >= 8.0 * c.dt);
+    os << "dashpot velocity predictor: "
+       << common::choice_name(kPredictors, c.extrapolated_predictor ? Predictor::extrapolated : Predictor::pkdgrav)
+       << (pred == Predictor::automatic ? " (auto: " + std::to_string(tau_min / c.dt) + " steps per shortest contact)" : "") << "\n";
   }
   if (!(c.dt > 0.0))
     throw common::InputError(sc.where("time.dt") + ": must be > 0 when contacts are off");

@@ -115,7 +115,7 @@ $(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBO
 	rm -rf $(RUN)/nbody
 	$(TIMED) reaccumulate $(BIN_NBODY) --scene $(NBODY_SCENE) \
 	  --set initial.file=$(RUN)/spheres.h5 --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
-	  --set output.dir=$(RUN)/nbody $(NBODY_SETS)
+	  --set output.directory=$(RUN)/nbody $(NBODY_SETS)
 	ls $(RUN)/nbody/snap_*.h5 > $@.tmp && mv $@.tmp $@
 impact-reaccumulate: $(RUN)/nbody/done
 

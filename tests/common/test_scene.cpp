@@ -1,5 +1,11 @@
-// Scene schema: defaults, types, ranges, unknown keys, overrides, styles, resolved echo.
+// Scene schema: defaults, types, ranges, unknown keys, overrides, styles, resolved echo,
+// deprecated aliases and typed choices.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <array>
+#include <sstream>
 
 #include "common/schema.hpp"
 #include "common/status.hpp"
@@ -140,4 +146,174 @@ TEST(Scene, HelpListsEveryKey) {
   for (const char* k : {"time.end", "output.every", "courant", "REQUIRED", "[[body]]", "youngs_modulus",
                         "when body[i].model = \"tillotson\"", "[m/s^2]"})
     EXPECT_NE(h.find(k), std::string::npos) << k;
+}
+
+// ---- deprecated aliases (Schema::add_alias) ----
+
+namespace {
+
+/// Collects what spdlog writes while alive (the default logger is restored at scope exit).
+class LogCapture {
+ public:
+  LogCapture() : old_(spdlog::default_logger()) {
+    auto sink = std::make_shared<spdlog::sinks::ostream_sink_mt>(out_);
+    spdlog::set_default_logger(std::make_shared<spdlog::logger>("capture", sink));
+  }
+  ~LogCapture() { spdlog::set_default_logger(old_); }
+  std::string text() const { return out_.str(); }
+
+ private:
+  std::ostringstream out_;
+  std::shared_ptr<spdlog::logger> old_;
+};
+
+/// demo_schema() plus renamed keys: a top-level key, a key moved to another table, a key of the
+/// table-array element and a key of one style.
+Schema alias_schema() {
+  Schema s = demo_schema();
+  s.add_real("output.interval", 0.0, "s", 0.0, 1e9, "time between outputs");
+  s.add_alias("output.every_s", "output.interval");
+  s.add_alias("run.courant", "courant");
+  Schema& body = *s.find_array("body")->element;
+  body.add_alias("speed", "velocity");
+  return s;
+}
+
+const char* kBodies = "[[body]]\nradius = 1\n";
+
+std::string alias_error(const std::string& text, const std::vector<std::string>& sets = {}) {
+  try {
+    Scene::parse(alias_schema(), text, "scene.toml", sets);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(SceneAlias, OldKeyInFileIsReadAsTheNewOneWithAWarning) {
+  LogCapture log;
+  const Scene s = Scene::parse(alias_schema(), std::string("[run]\ncourant = 0.25\n[output]\nevery_s = 3.5\n") + kBodies,
+                               "scene.toml");
+  EXPECT_DOUBLE_EQ(s.real("courant"), 0.25);
+  EXPECT_DOUBLE_EQ(s.real("output.interval"), 3.5);
+  EXPECT_TRUE(s.given("courant"));
+  EXPECT_TRUE(s.given("output.interval"));
+  const std::string w = log.text();
+  EXPECT_NE(w.find("scene.toml: 'run.courant' is deprecated, use 'courant'"), std::string::npos) << w;
+  EXPECT_NE(w.find("scene.toml: 'output.every_s' is deprecated, use 'output.interval'"), std::string::npos) << w;
+  EXPECT_NE(w.find("[warning]"), std::string::npos) << w;
+  // The resolved scene holds only the new names (its `run` table, left empty, is gone) and reads
+  // back without warnings.
+  const std::string echo = s.to_toml();
+  EXPECT_EQ(echo.find("every_s"), std::string::npos) << echo;
+  EXPECT_EQ(echo.find("[run]"), std::string::npos) << echo;
+  LogCapture again;
+  EXPECT_EQ(Scene::parse(alias_schema(), echo, "echo").to_toml(), echo);
+  EXPECT_EQ(again.text(), "");
+}
+
+TEST(SceneAlias, OldKeyBySetIsReadAsTheNewOneAndWinsOverTheFile) {
+  LogCapture log;
+  const Scene s = Scene::parse(alias_schema(), std::string("courant = 0.3\n") + kBodies, "scene.toml",
+                               {"run.courant=0.125", "body[0].speed=[1,2,3]"});
+  EXPECT_DOUBLE_EQ(s.real("courant"), 0.125);
+  EXPECT_DOUBLE_EQ(s.element("body", 0).vec3("velocity")[2], 3.0);
+  EXPECT_NE(log.text().find("--set: 'run.courant' is deprecated, use 'courant'"), std::string::npos) << log.text();
+  EXPECT_NE(log.text().find("--set: 'body[0].speed' is deprecated, use 'body[0].velocity'"), std::string::npos)
+      << log.text();
+  // And a --set of the new name wins over the old name in the file.
+  const Scene t = Scene::parse(alias_schema(), std::string("[run]\ncourant = 0.3\n") + kBodies, "scene.toml",
+                               {"courant=0.5"});
+  EXPECT_DOUBLE_EQ(t.real("courant"), 0.5);
+}
+
+TEST(SceneAlias, AliasInsideTableArrayElements) {
+  LogCapture log;
+  const Scene s = Scene::parse(alias_schema(), "courant = 0.1\n[[body]]\nradius = 1\nspeed = [0, 0, -7]\n", "scene.toml");
+  EXPECT_DOUBLE_EQ(s.element("body", 0).vec3("velocity")[2], -7.0);
+  EXPECT_TRUE(s.element("body", 0).given("velocity"));
+  EXPECT_NE(log.text().find("scene.toml: 'body[0].speed' is deprecated, use 'body[0].velocity'"), std::string::npos)
+      << log.text();
+}
+
+TEST(SceneAlias, AliasOfAStyleKeyAndOfAnIncludedSchema) {
+  Schema s("styles");
+  s.add_choice("model", std::string("a"), {}, "model");
+  Schema a;
+  a.add_real("modulus", 1.0, "Pa", 0.0, 1e9, "modulus");
+  a.add_alias("E", "modulus");
+  s.add_style_switch("model", {{"a", a}, {"b", Schema()}});
+  Schema outer;
+  outer.include("mat", s);
+  LogCapture log;
+  const Scene sc = Scene::parse(outer, "[mat]\nE = 4.0\n", "scene.toml");
+  EXPECT_DOUBLE_EQ(sc.real("mat.modulus"), 4.0);
+  EXPECT_NE(log.text().find("'mat.E' is deprecated, use 'mat.modulus'"), std::string::npos) << log.text();
+  // Under the other style the old name is as unknown as the new one.
+  EXPECT_THROW(Scene::parse(outer, "[mat]\nmodel = \"b\"\nE = 4.0\n", "scene.toml"), InputError);
+}
+
+TEST(SceneAlias, OldAndNewTogetherIsAnErrorNamingBoth) {
+  LogCapture log;
+  for (const std::string& e :
+       {alias_error(std::string("courant = 0.3\n[run]\ncourant = 0.25\n") + kBodies),
+        alias_error(std::string("courant = 0.3\n") + kBodies, {"run.courant=0.2", "courant=0.1"}),
+        alias_error("courant = 0.1\n[[body]]\nradius = 1\nspeed = [0, 0, 1]\nvelocity = [0, 0, 1]\n")}) {
+    EXPECT_NE(e.find("deprecated"), std::string::npos) << e;
+    const bool body = e.find("body[0].speed") != std::string::npos;
+    EXPECT_NE(e.find(body ? "body[0].velocity" : "'courant'"), std::string::npos) << e;
+    EXPECT_TRUE(body || e.find("run.courant") != std::string::npos) << e;
+  }
+  EXPECT_NE(alias_error(std::string("courant = 0.3\n[run]\ncourant = 0.25\n") + kBodies).find("scene.toml"),
+            std::string::npos);
+}
+
+TEST(SceneAlias, DeclarationErrorsAndHelp) {
+  Schema s = alias_schema();
+  EXPECT_THROW(s.add_alias("x", "no.such.key"), std::logic_error);
+  EXPECT_THROW(s.add_alias("courant", "time.end"), std::logic_error);       // old name still declared
+  EXPECT_THROW(s.add_alias("run.courant", "time.end"), std::logic_error);   // alias declared twice
+  EXPECT_THROW(s.add_real("run.courant", 1.0, "1", 0, 1, "reuse"), std::logic_error);
+  const std::string h = s.help_text();
+  EXPECT_NE(h.find("run.courant  DEPRECATED: use courant"), std::string::npos) << h;
+  EXPECT_NE(h.find("body[i].speed  DEPRECATED: use body[i].velocity"), std::string::npos) << h;
+}
+
+// ---- typed choices (Choice tables) ----
+
+namespace {
+enum class Shape { ugimp, linear };
+constexpr std::array kShapes{common::Choice{"ugimp", Shape::ugimp}, common::Choice{"linear", Shape::linear}};
+enum class Unlisted { a, b };
+constexpr std::array kUnlisted{common::Choice{"a", Unlisted::a}};
+}  // namespace
+
+TEST(SceneChoice, TypedChoiceComesFromOneTable) {
+  static_assert(common::choice_name(kShapes, Shape::linear) == "linear");
+  static_assert(*common::choice_value(kShapes, "ugimp") == Shape::ugimp);
+  static_assert(!common::choice_value(kShapes, "gimp"));
+  Schema s("typed");
+  s.add_choice("shape", Shape::linear, kShapes, "shape functions");
+  s.add_choice("req", std::nullopt, kShapes, "required");
+  EXPECT_EQ(s.find("shape")->choices, (std::vector<std::string>{"ugimp", "linear"}));
+  EXPECT_EQ(std::get<std::string>(*s.find("shape")->default_value), "linear");
+  EXPECT_FALSE(s.find("req")->default_value);
+  const Scene sc = Scene::parse(s, "req = \"ugimp\"\n", "scene.toml");
+  EXPECT_EQ(sc.choice("shape", kShapes), Shape::linear);
+  EXPECT_EQ(sc.choice("req", kShapes), Shape::ugimp);
+  EXPECT_EQ(sc.string("req"), "ugimp");
+  try {
+    Scene::parse(s, "req = \"cubic\"\n", "scene.toml");
+    ADD_FAILURE() << "accepted a value outside the table";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("\"ugimp\", \"linear\""), std::string::npos) << e.what();
+  }
+  EXPECT_NE(s.help_text().find("one of: ugimp linear"), std::string::npos);
+  // Reading a key with a table it was not declared from is an internal error, not a silent default.
+  Schema t;
+  t.add_choice("k", std::string("b"), {"a", "b"}, "declared from strings");
+  EXPECT_THROW(Scene::parse(t, "", "s").choice("k", kUnlisted), InputError);
+  EXPECT_THROW(s.add_choice("bad", Unlisted::b, kUnlisted, "default not in the table"), std::logic_error);
 }

@@ -104,7 +104,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
           plat.push_back({(i + 0.5) * h, s * (R + (j + 0.5) * h), (k + 0.5) * h});
   const std::size_t nd = disk.size(), n = nd + plat.size();
   tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
-  tp.sampling = c.sampling;
+  tp.flaw_sampling = c.sampling;
   const double rho_p = 7850.0 * 1e3, Kp = 160e9, Gp = 80e9;
   ParticleSet ps;
   ps.resize(n, true);
@@ -118,7 +118,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
     }
     ps.id[p] = p;
     ps.material[p] = p < nd ? 0 : 1;
-    ps.mass[p] = (p < nd ? tp.rho0 : rho_p) * V;
+    ps.mass[p] = (p < nd ? tp.density : rho_p) * V;
     ps.volume0[p] = ps.volume[p] = V;
     ps.energy[p] = 0.0;
   }
@@ -133,7 +133,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
     mats[0].model = make_tonge_ramesh(tp);
   } else {
     TillotsonParams tt;
-    mats[0].model = make_tillotson(tt, tp.G0);
+    mats[0].model = make_tillotson(tt, tp.shear_modulus);
   }
   mats[0].begin = 0;
   mats[0].end = nd;
@@ -163,7 +163,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   Result res;
   res.particles = n;
   res.bytes_per_particle = s.bytes_per_particle();
-  const double E = 9 * tp.eos.A * tp.G0 / (3 * tp.eos.A + tp.G0);
+  const double E = 9 * tp.eos.A * tp.shear_modulus / (3 * tp.eos.A + tp.shear_modulus);
   const double t_end = c.t_ramp + c.t_max_factor * 60e6 / (E * c.rate);
   const auto t0 = std::chrono::steady_clock::now();
   s.initialize();

@@ -23,13 +23,12 @@ int main(int argc, char** argv) {
   if (argc > 5) c.seed = std::strtoull(argv[5], nullptr, 10);
   if (argc > 6) c.basalt_style = argv[6];  // "tillotson": undamageable reference disk
   if (argc > 7) {
-    const std::string smp = argv[7];
-    if (smp != "poisson" && smp != "expected") {
-      std::fprintf(stderr, "sampling must be poisson or expected, got '%s'\n", smp.c_str());
+    const auto smp = common::choice_value(mpmfrag::tonge_ramesh::kFlawSamplings, argv[7]);
+    if (!smp) {
+      std::fprintf(stderr, "sampling must be poisson or expected, got '%s'\n", argv[7]);
       return 2;
     }
-    c.sampling = smp == "expected" ? mpmfrag::tonge_ramesh::FlawSampling::expected
-                                   : mpmfrag::tonge_ramesh::FlawSampling::poisson;
+    c.sampling = *smp;
   }
   c.progress_every = 500;
   const auto r = brazilian::run(c);

@@ -126,7 +126,7 @@ TEST(Flaws, ReproducibleKeyedByParticleAndSeed) {
   EXPECT_EQ(sa, sb);
   sample_flaws(p, 1e-9, 43, 0, b.data(), sb.data());
   EXPECT_NE(a, b);
-  p.seed = 7;
+  p.flaw_seed = 7;
   sample_flaws(p, 1e-9, 42, 0, b.data(), sb.data());
   EXPECT_NE(a, b);
 }
@@ -155,7 +155,7 @@ TEST(Flaws, HugeParticleVolumes) {
 // particles of different volume and id get the same bins.
 TEST(Flaws, ExpectedDensityIsVolumeIndependentAndExact) {
   Params p = basalt_el_mir();
-  p.sampling = FlawSampling::expected;
+  p.flaw_sampling = FlawSampling::expected;
   std::vector<double> a(50), sa(50), b(50), sb(50);
   const double D0 = sample_flaws(p, 1e-12, 1, 0, a.data(), sa.data());
   sample_flaws(p, 1e3, 99, 0, b.data(), sb.data());

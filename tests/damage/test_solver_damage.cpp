@@ -63,7 +63,7 @@ TEST(SolverDamage, LocalColdTillotsonMatchesSolverEos) {
   const mpmfrag::TillotsonParams t;
   const double pts[][2] = {{0.8, 0.0}, {0.9, 1e6}, {0.95, 4e6}, {1.0, 0.0}, {1.2, 1e6}, {1.5, 5e6}, {2.0, 5e7}};
   for (const auto& q : pts) {
-    const double mine = mpmfrag::tonge_ramesh::tillotson_pressure(p.eos, p.rho0, q[0], q[1]);
+    const double mine = mpmfrag::tonge_ramesh::tillotson_pressure(p.eos, p.density, q[0], q[1]);
     const double theirs = mpmfrag::tillotson_pressure(t, q[0] * t.rho0, q[1]);
     EXPECT_NEAR(mine, theirs, 1e-9 * std::max(std::abs(theirs), 1e6)) << q[0] << " " << q[1];
   }

@@ -114,7 +114,7 @@ static void BM_HandOff(benchmark::State& state) {
   const auto& s = layout(state.range(1));
   handoff::HandoffConfig c;
   c.input = "bench";
-  c.method = "paper";
+  c.method = handoff::HandoffMethod::paper;
   omp_set_num_threads(threads);
   for (auto _ : state) {
     auto o = handoff::hand_off(s, c);

@@ -9,7 +9,7 @@
 using namespace handoff;
 
 namespace {
-HandoffConfig config(const std::string& method) {
+HandoffConfig config(HandoffMethod method) {
   HandoffConfig c;
   c.input = "test";
   c.method = method;
@@ -19,8 +19,8 @@ HandoffConfig config(const std::string& method) {
 
 TEST(Conserving, RestoresEnergyAndAngularMomentumExactly) {
   const auto s = testsets::uniform(20000, 20, 1.0, 2.5, 17.5, 0.5, 21);
-  const auto paper = hand_off(s, config("paper"));
-  const auto cons = hand_off(s, config("conserving"));
+  const auto paper = hand_off(s, config(HandoffMethod::paper));
+  const auto cons = hand_off(s, config(HandoffMethod::conserving));
   EXPECT_GT(paper.audit.kinetic_loss_relative(), 1e-3);  // the paper's method loses energy here
   ASSERT_TRUE(cons.audit.exact) << cons.audit.note;
   EXPECT_LT(std::fabs(cons.audit.kinetic_loss_relative()), 1e-12);
@@ -36,11 +36,11 @@ TEST(Conserving, ExpandingCloudWithSpin) {
   const auto s = testsets::filled_box(20, 1.0, 4, 12, 2, 1.0, [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
     return 50.0 * (x - C) + w.cross(x - C) + Eigen::Vector3d(0, 0, 100);
   });
-  const auto cons = hand_off(s, config("conserving"));
+  const auto cons = hand_off(s, config(HandoffMethod::conserving));
   ASSERT_TRUE(cons.audit.exact) << cons.audit.note;
   EXPECT_LT(std::fabs(cons.audit.kinetic_loss_relative()), 1e-12);
   EXPECT_LT(cons.audit.angular_momentum_error_relative(), 1e-9);
-  const auto paper = hand_off(s, config("paper"));
+  const auto paper = hand_off(s, config(HandoffMethod::paper));
   const double lambda = std::stod(cons.audit.note.substr(cons.audit.note.find('=') + 1));
   // lambda ~ 1 + dK / (2 K_int), K_int the kinetic energy in the centre-of-mass frame.
   const auto& b = paper.audit.before;
@@ -56,8 +56,8 @@ TEST(Conserving, RigidRotationIsReportedNotForced) {
   const auto s = testsets::filled_box(20, 1.0, 4, 10, 2, 1.0, [&](const Eigen::Vector3d& x) -> Eigen::Vector3d {
     return Eigen::Vector3d(0, 0, 2.0).cross(x - Eigen::Vector3d(9, 9, 9));
   });
-  const auto cons = hand_off(s, config("conserving"));
-  const auto paper = hand_off(s, config("paper"));
+  const auto cons = hand_off(s, config(HandoffMethod::conserving));
+  const auto paper = hand_off(s, config(HandoffMethod::paper));
   EXPECT_FALSE(cons.audit.exact);
   EXPECT_NE(cons.audit.note.find("rigid rotation"), std::string::npos);
   EXPECT_EQ(cons.result.spheres.velocity, paper.result.spheres.velocity);

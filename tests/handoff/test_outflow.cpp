@@ -16,7 +16,7 @@ namespace {
 
 HandoffConfig config(int coarsen = 1) {
   HandoffConfig c;
-  c.method = "paper";
+  c.method = HandoffMethod::paper;
   c.projection.coarsen = coarsen;
   c.projection.carry_fields = {"damage"};
   c.carry_given = true;

@@ -17,7 +17,7 @@ namespace {
 HandoffConfig paper_config(int coarsen = 1) {
   HandoffConfig c;
   c.input = "test";
-  c.method = "paper";
+  c.method = HandoffMethod::paper;
   c.projection.coarsen = coarsen;
   return c;
 }

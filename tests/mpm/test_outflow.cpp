@@ -30,7 +30,6 @@ end = 0.0015
 [output]
 directory = ")" + dir + R"("
 prefix = "out"
-[run]
 progress_interval = 100.0
 [[material]]
 name = "rock"

@@ -211,7 +211,6 @@ end = 1.0
 [output]
 directory = ")" + dir + R"("
 prefix = "edge"
-[run]
 progress_interval = 100.0
 [[material]]
 name = "m"

@@ -78,9 +78,9 @@ common::SphereSet last_snapshot(const std::string& dir) {
 TEST(App, RestartFromCheckpointIsBitIdentical) {
   const std::string d = tmpdir("restart");
   const std::string scene = write_scene(d);
-  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/full\\\""), 0);
-  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --set time.end=13.0"), 0);
-  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/part\\\" --restart " + d +
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/full\\\""), 0);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/part\\\" --set time.end=13.0"), 0);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/part\\\" --restart " + d +
                     "/part/checkpoint.h5"),
             0);
   const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
@@ -118,7 +118,7 @@ TEST(App, SigtermWritesCheckpointAndRestartMatches) {
     setenv("OMP_NUM_THREADS", "1", 1);
     if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr))
       _exit(98);
-    const std::string od = "output.dir=\"" + d + "/part\"";
+    const std::string od = "output.directory=\"" + d + "/part\"";
     execl(kExe.c_str(), kExe.c_str(), "--quiet", "--scene", scene.c_str(), "--set", od.c_str(),
           "--set", "time.end=1e7", static_cast<char*>(nullptr));
     _exit(99);
@@ -159,7 +159,7 @@ TEST(App, SigtermWritesCheckpointAndRestartMatches) {
   EXPECT_GT(st.history.size(), st.sp.size());  // contact history really was carried
   char tend[64];
   std::snprintf(tend, sizeof tend, "%.17g", st.time + 30.0);
-  const std::string args = "--scene " + scene + " --set time.end=" + tend + " --set output.dir=";
+  const std::string args = "--scene " + scene + " --set time.end=" + tend + " --set output.directory=";
   ASSERT_EQ(run_cmd(args + "\\\"" + d + "/full\\\""), 0);
   ASSERT_EQ(run_cmd(args + "\\\"" + d + "/part\\\" --restart " + d + "/part/checkpoint.h5"), 0);
   const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
@@ -177,7 +177,7 @@ TEST(App, RefusesUnresolvableDtWithExit2) {
   const std::string d = tmpdir("dt");
   const std::string scene = write_scene(d);
   // k_n 100x stiffer than the rule at the dt the rule would give: 3 steps per contact
-  EXPECT_EQ(run_cmd("--scene " + scene + " --set output.dir=\\\"" + d + "/o\\\" --set time.dt=0.07 --set contact.normal.kn=1e6"), 2);
+  EXPECT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/o\\\" --set time.dt=0.07 --set contact.normal.kn=1e6"), 2);
   fs::remove_all(d);
 }
 
@@ -190,7 +190,7 @@ TEST(App, RunawayOverlapStopsWithExit3AndSavesState) {
   write_snapshot(d + "/in.h5", sp, 0.0, 0, common::Provenance{"test", "", "", "", ""});
   std::ofstream(d + "/s.toml") << "[time]\nend = 1.0\n[initial]\nsource = \"file\"\nfile = \"" << d
                                << "/in.h5\"\n[gravity]\nself = false\n[contact]\nnormal.kn = 1e3\n"
-                               << "[output]\ndir = \"" << d << "/o\"\n";
+                               << "[output]\ndirectory = \"" << d << "/o\"\n";
   EXPECT_EQ(run_cmd("--scene " + d + "/s.toml"), 3);
   ASSERT_TRUE(fs::exists(d + "/o/failed_state.h5"));
   const SimState st = read_checkpoint(d + "/o/failed_state.h5");
@@ -208,7 +208,7 @@ TEST(App, DamageCarriedFromInputFileToSnapshots) {
   sp.carried.push_back(dmg);
   write_snapshot(d + "/in.h5", sp, 0.0, 0, common::Provenance{"test", "", "", "", ""});
   std::ofstream(d + "/s.toml") << "[time]\nend = 5.0\n[initial]\nsource = \"file\"\nfile = \"" << d
-                               << "/in.h5\"\n[contact]\npreset = \"gravel\"\n[output]\ndir = \"" << d
+                               << "/in.h5\"\n[contact]\npreset = \"gravel\"\n[output]\ndirectory = \"" << d
                                << "/o\"\ntimes = [2.0]\n";
   ASSERT_EQ(run_cmd("--scene " + d + "/s.toml"), 0);
   const auto out = last_snapshot(d + "/o");

@@ -9,6 +9,14 @@
 /// against an element schema; an element schema may carry a *style switch*: a choice key
 /// (e.g. `model = "tillotson"`) whose value selects an extra schema of style-specific keys
 /// (the LAMMPS/SWIFT module contract: each style declares its own parameters).
+///
+/// Renamed keys stay readable for one release through *aliases* (`add_alias(old, new)`): a
+/// scene file or `--set` that uses the old key is read as the new one, with a warning naming the
+/// file and both keys; giving both is an error. `--help-params` lists the deprecated keys.
+///
+/// Typed choices: a choice whose value the tool acts on is declared from one table of
+/// {name, enum value} pairs (`Choice<E>`, a `constexpr std::array` next to the enum); the
+/// allowed values, the help text, the validation and `Scene::choice<E>()` all derive from it.
 #pragma once
 #include <Eigen/Core>
 #include <functional>
@@ -17,10 +25,19 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <variant>
 #include <vector>
 
+#include "common/choice.hpp"
+
 namespace common {
+
+/// A renamed key: `old_key` is read as `new_key` (both relative to the schema that holds it).
+struct AliasSpec {
+  std::string old_key;
+  std::string new_key;
+};
 
 enum class ParamType { boolean, integer, real, string, choice, vec3, real_list };
 
@@ -65,6 +82,15 @@ class Schema {
                      const std::string& help);
   Schema& add_choice(const std::string& key, std::optional<std::string> def,
                      std::vector<std::string> choices, const std::string& help);
+  /// Typed choice: the allowed values are the names of `table` (read back with
+  /// Scene::choice(key, table)); `def` is an enum value of the table (std::nullopt: required).
+  template <class E, std::size_t N>
+  Schema& add_choice(const std::string& key, std::type_identity_t<std::optional<E>> def,
+                     const std::array<Choice<E>, N>& table, const std::string& help) {
+    std::optional<std::string> d;
+    if (def) d = std::string(choice_name(table, *def));
+    return add_choice(key, std::move(d), choice_names(table), help);
+  }
   Schema& add_vec3(const std::string& key, std::optional<Eigen::Vector3d> def,
                    const std::string& unit, double min, double max, const std::string& help);
   Schema& add_real_list(const std::string& key, std::optional<std::vector<double>> def,
@@ -80,11 +106,16 @@ class Schema {
   Schema& add_style_switch(const std::string& key, std::map<std::string, Schema> styles);
   /// Merge all keys of `other` under `prefix` ("" for the root).
   Schema& include(const std::string& prefix, const Schema& other);
+  /// Deprecated spelling: `old_key` is read as `new_key` (declared before, in this schema: a
+  /// key or a table array). A scene or --set using `old_key` logs a warning ("deprecated, use
+  /// new_key"); giving both is an error. Keep an alias for one release after the rename.
+  Schema& add_alias(const std::string& old_key, const std::string& new_key);
 
   const std::vector<ParamSpec>& params() const { return params_; }
   const std::vector<TableArraySpec>& table_arrays() const { return arrays_; }
   const ParamSpec* find(const std::string& key) const;
   const TableArraySpec* find_array(const std::string& key) const;
+  const std::vector<AliasSpec>& aliases() const { return aliases_; }
   const std::string& title() const { return title_; }
 
   /// Human-readable documentation: one block per key (type, default, unit, range, help).
@@ -101,6 +132,7 @@ class Schema {
   std::vector<ParamSpec> params_;
   std::vector<TableArraySpec> arrays_;
   std::vector<StyleSwitch> switches_;
+  std::vector<AliasSpec> aliases_;
 };
 
 class SceneData;  // opaque resolved TOML tree
@@ -130,6 +162,14 @@ class Scene {
   long long integer(const std::string& key) const;
   bool boolean(const std::string& key) const;
   std::string string(const std::string& key) const;  ///< string or choice
+  /// A typed choice declared with Schema::add_choice(key, def, table, help): its enum value.
+  template <class E, std::size_t N>
+  E choice(const std::string& key, const std::array<Choice<E>, N>& table) const {
+    const std::string v = string(key);
+    for (const auto& c : table)
+      if (c.name == v) return c.value;
+    throw_not_in_table(key, v);
+  }
   Eigen::Vector3d vec3(const std::string& key) const;
   std::vector<double> real_list(const std::string& key) const;
   /// Whether the key was given in the file/overrides (rather than taken from its default).
@@ -150,6 +190,7 @@ class Scene {
   std::string where(const std::string& key) const;
 
  private:
+  [[noreturn]] void throw_not_in_table(const std::string& key, const std::string& value) const;
   std::unique_ptr<SceneData> d_;
   friend class SceneData;
 };

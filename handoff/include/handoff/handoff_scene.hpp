@@ -1,6 +1,7 @@
 /// @file handoff_scene.hpp
 /// Parameter schema of mpm2spheres and the options it resolves to.
 #pragma once
+#include <array>
 #include <string>
 
 #include "common/schema.hpp"
@@ -9,13 +10,24 @@
 
 namespace handoff {
 
+/// Hand-off method (key `method`).
+enum class HandoffMethod { paper, conserving };
+inline constexpr std::array kHandoffMethods{common::Choice{"paper", HandoffMethod::paper},
+                                            common::Choice{"conserving", HandoffMethod::conserving}};
+
+/// Units of the exported pkdgrav .ss file (key `export.ss_units`).
+enum class SsUnitSystem { pkdgrav, si };
+inline constexpr std::array kSsUnitSystems{common::Choice{"pkdgrav", SsUnitSystem::pkdgrav},
+                                           common::Choice{"si", SsUnitSystem::si}};
+
 /// The one schema: validates scene files, prints --help-params.
 common::Schema handoff_schema();
 
 struct HandoffConfig {
-  std::string input, output, audit_json, ss_path, ss_units;
+  std::string input, output, audit_json, ss_path;
+  SsUnitSystem ss_units = SsUnitSystem::pkdgrav;
   std::string outflow;  ///< mpm-frag outflow file (particles that left the grid); empty: none
-  std::string method;  ///< "paper" or "conserving"
+  HandoffMethod method = HandoffMethod::paper;
   ProjectionOptions projection;
   SelectionRules select;
   double max_energy_loss = 1.0;  ///< relative KE loss above which the tool fails (exit 3)

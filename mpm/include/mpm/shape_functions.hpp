@@ -43,14 +43,19 @@
 #include <vector>
 
 #include "common/branchless.hpp"
+#include "common/choice.hpp"
 #include "common/particle_file.hpp"
 
 namespace mpmfrag {
 
 /// Interpolation scheme.
 enum class ShapeKind { linear, ugimp };
+/// Scene spellings of ShapeKind (mpm-frag solver.shape, mpm2spheres shape).
+inline constexpr std::array kShapeKinds{common::Choice{"ugimp", ShapeKind::ugimp},
+                                        common::Choice{"linear", ShapeKind::linear}};
 
-/// Parse "ugimp" / "linear"; throws std::invalid_argument otherwise.
+/// Parse a name of kShapeKinds (or the legacy "gimp" for ugimp); throws std::invalid_argument
+/// otherwise.
 ShapeKind parse_shape_kind(const std::string& name);
 /// Inverse of parse_shape_kind.
 const char* shape_kind_name(ShapeKind k);

@@ -55,12 +55,12 @@ double sample_flaws(const Params& p, double V, std::uint64_t particle_id,
   int off = 0;
   for (std::size_t ip = 0; ip < p.populations.size(); ++ip) {
     const FlawPopulation& f = p.populations[ip];
-    common::KeyedRng rng(p.seed, particle_id, 1 + material_id * 64 + ip);
+    common::KeyedRng rng(p.flaw_seed, particle_id, 1 + material_id * 64 + ip);
     const auto e = bin_edges(f);
     for (int k = 0; k < f.bins; ++k) {
       const double sh = e[k], sl = e[k + 1];
       const double dF = pareto_cdf(f, sh) - pareto_cdf(f, sl);
-      if (p.sampling == FlawSampling::expected) {
+      if (p.flaw_sampling == FlawSampling::expected) {
         omega[off + k] = f.density * dF;
         s[off + k] = std::cbrt(pareto_moment(f.exponent, sl, sh, 3));
         D0 += omega[off + k] * s[off + k] * s[off + k] * s[off + k];

@@ -33,11 +33,11 @@ double solve_lnJel(const Params& p, double x0, double e, double ratio, double ta
 double crush_alpha(const Params& p, const Derived& d, double P) {
   if (P <= 0.0) return std::numeric_limits<double>::infinity();
   if (P >= p.pa_Pc) return 1.0;
-  if (P >= p.pa_Pe) {
-    const double r = (p.pa_Pc - P) / (p.pa_Pc - p.pa_Pe);
-    return 1.0 + (p.pa_alpha_e - 1.0) * r * r;
+  if (P >= p.pa_P0) {
+    const double r = (p.pa_Pc - P) / (p.pa_Pc - p.pa_P0);
+    return 1.0 + (p.pa_alpha0 - 1.0) * r * r;
   }
-  return p.pa_alpha_e + std::log(p.pa_Pe / P) / d.pa_kappa;
+  return p.pa_alpha0 + std::log(p.pa_P0 / P) / d.pa_kappa;
 }
 
 double granular_flow(const Params& p, const Derived& d, double D, double J, double e, double dt,
@@ -69,8 +69,8 @@ double granular_flow(const Params& p, const Derived& d, double D, double J, doub
                                      : Eigen::Matrix3d(Eigen::Matrix3d::Zero());
   Eigen::Matrix3d tau_dev = tau_bar;
   double p_star = p_bar;
-  if (p.gp_time_const > 0.0) {  // Duvaut–Lions overstress relaxation
-    const double r = dt / p.gp_time_const;
+  if (p.granular_time > 0.0) {  // Duvaut–Lions overstress relaxation
+    const double r = dt / p.granular_time;
     tau_dev = (tau_tr + r * tau_bar) / (1.0 + r);
     p_star = (p_tr + r * p_bar) / (1.0 + r);
   }
@@ -142,8 +142,8 @@ double pa_compaction(const Params& p, const Derived& d, double D, double J, doub
       }
     }
   }
-  if (p.gp_time_const > 0.0) {
-    const double r = dt / p.gp_time_const;
+  if (p.granular_time > 0.0) {
+    const double r = dt / p.granular_time;
     a = (alpha0 + r * a) / (1.0 + r);
   }
   a = std::max(a, 1.0);

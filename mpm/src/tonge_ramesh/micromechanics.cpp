@@ -28,7 +28,7 @@ double damage_of(const Params& p, int n, const double* omega, const double* s, c
   double D = 0.0;
   for (int k = 0; k < n; ++k) {
     if (omega[k] <= 0.0) continue;
-    const double a = p.inc_init_damage ? s[k] + l[k] : l[k];
+    const double a = p.include_initial_damage ? s[k] + l[k] : l[k];
     D += omega[k] * a * a * a;
   }
   return std::min(D, p.max_damage);
@@ -57,7 +57,7 @@ double advance_cracks(const Params& p, const Derived& d, double sa, double sb, d
       lk = lcap;
     }
     l[k] = lk;
-    const double a = p.inc_init_damage ? sk + lk : lk;
+    const double a = p.include_initial_damage ? sk + lk : lk;
     D += w * a * a * a;
   }
   return std::min(D, p.max_damage);

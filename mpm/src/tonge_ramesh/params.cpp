@@ -35,16 +35,16 @@ void Params::validate() const {
   auto bad = [](const std::string& k, const std::string& why) {
     throw common::InputError("", "tonge_ramesh." + k, why);
   };
-  if (!(rho0 > 0)) bad("rho0", "must be > 0");
-  if (!(G0 > 0)) bad("shear_modulus", "must be > 0");
-  if (!(eos.A > 0)) bad("tillotson_A", "must be > 0");
+  if (!(density > 0)) bad("density", "must be > 0");
+  if (!(shear_modulus > 0)) bad("shear_modulus", "must be > 0");
+  if (!(eos.A > 0)) bad("A", "must be > 0");
   if (!(KIc > 0)) bad("KIc", "must be > 0");
   if (!(growth_alpha >= 1)) bad("growth_alpha", "must be >= 1");
   if (!(critical_damage > 0 && critical_damage <= max_damage))
     bad("critical_damage", "must be in (0, max_damage]");
   if (!(max_damage > 0 && max_damage < 1)) bad("max_damage", "must be in (0,1)");
-  if (!(pa_Pe > 0 && pa_Pc > pa_Pe)) bad("pa_Pc", "need 0 < P_e < P_c");
-  if (!(pa_alpha_e > 1)) bad("pa_alpha_e", "must be > 1");
+  if (!(pa_P0 > 0 && pa_Pc > pa_P0)) bad("pa_Pc", "need 0 < pa_P0 < pa_Pc");
+  if (!(pa_alpha0 > 1)) bad("pa_alpha0", "must be > 1");
   if (!(max_damage_inc > 0)) bad("max_damage_inc", "must be > 0");
   for (const auto& f : populations) {
     if (!(f.s_min > 0 && f.s_max > f.s_min)) bad("flaw s_min/s_max", "need 0 < s_min < s_max");
@@ -57,7 +57,7 @@ void Params::validate() const {
 
 Derived::Derived(const Params& p) {
   K0 = p.eos.A;
-  const double G = p.G0;
+  const double G = p.shear_modulus;
   nu0 = (3 * K0 - 2 * G) / (6 * K0 + 2 * G);
   E0 = 9 * K0 * G / (3 * K0 + G);
   const double Zn = 16 * (1 - nu0 * nu0) / (3 * E0);
@@ -65,7 +65,7 @@ Derived::Derived(const Params& p) {
   const double Zc = -Zn / 8;
   kK = K0 * (Zn + 4 * Zc);
   kG = G * (2.0 / 15.0) * (3 * Zr + 2 * Zn - 4 * Zc);
-  cs = std::sqrt(G / p.rho0);
+  cs = std::sqrt(G / p.density);
   cR = cs * (0.862 + 1.14 * nu0) / (1 + nu0);
   v_max = cR / p.growth_alpha;
   const double mu = p.flaw_friction;
@@ -73,7 +73,7 @@ Derived::Derived(const Params& p) {
   sin_phi = std::sin(phi);
   cos_phi = std::cos(phi);
   sin2phi = std::sin(2 * phi);
-  pa_kappa = (p.pa_Pc - p.pa_Pe) / (2 * p.pa_Pe * (p.pa_alpha_e - 1));
+  pa_kappa = (p.pa_Pc - p.pa_P0) / (2 * p.pa_P0 * (p.pa_alpha0 - 1));
 }
 
 }  // namespace mpmfrag::tonge_ramesh

@@ -32,7 +32,7 @@ inline bool finite(const M3& a) { return a.allFinite(); }
 
 PointState initial_state(const Params& p, int nbins, const double* omega, const double* s) {
   PointState st;
-  if (p.use_damage && p.inc_init_damage) {
+  if (p.use_damage && p.include_initial_damage) {
     double D = 0.0;
     for (int k = 0; k < nbins; ++k) D += omega[k] * s[k] * s[k] * s[k];
     st.D = std::min(D, p.max_damage);
@@ -43,8 +43,8 @@ PointState initial_state(const Params& p, int nbins, const double* omega, const 
 
 double wave_speed(const Params& p, double J, double JGP, double e) {
   const double eta = JGP / J;
-  const double KT = std::max(tillotson_tangent(p.eos, p.rho0, eta, e), 0.1 * p.eos.A);
-  return std::sqrt((KT + 4.0 / 3.0 * p.G0) / (p.rho0 / J));
+  const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
+  return std::sqrt((KT + 4.0 / 3.0 * p.shear_modulus) / (p.density / J));
 }
 
 UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in, M3& sigma,
@@ -141,7 +141,7 @@ UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in
 
   // 8. Energy.
   const M3 dsym = 0.5 * (in.L + in.L.transpose());
-  st.e += dt / (2.0 * p.rho0) * ((in.Jn * sig_n + tau_new).cwiseProduct(dsym)).sum();
+  st.e += dt / (2.0 * p.density) * ((in.Jn * sig_n + tau_new).cwiseProduct(dsym)).sum();
   st.Iel = be.trace() / 3.0;
   st.D = D;
   st.JGP = JGP;

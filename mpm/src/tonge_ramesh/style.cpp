@@ -30,14 +30,14 @@ class TongeRamesh final : public Material {
       throw common::InputError("", "tonge_ramesh bins", "more than 50 flaw bins in total");
   }
   std::string style() const override { return "tonge_ramesh"; }
-  double density() const override { return p_.rho0; }
+  double density() const override { return p_.density; }
   double reference_wave_speed() const override { return tr::wave_speed(p_, 1.0, 1.0, 0.0); }
   double reference_bulk_modulus() const override { return p_.eos.A; }
 
   void initialize(const MaterialBatch& b) const override {
     const int nb = p_.total_bins();
     tr::Params ps = p_;
-    ps.seed = p_.seed ^ (b.seed * 0x9E3779B97F4A7C15ull);
+    ps.flaw_seed = p_.flaw_seed ^ (b.seed * 0x9E3779B97F4A7C15ull);
     for (std::size_t k = 0; k < b.n; ++k) {
       double* om = b.state[fOmega] + kTongeRameshBinSlots * k;
       double* sz = b.state[fSize] + kTongeRameshBinSlots * k;
@@ -114,8 +114,8 @@ class TongeRamesh final : public Material {
     const double e = std::max(b.energy[k], 0.0);
     b.wave_speed[k] = tr::wave_speed(p_, J, st.JGP, e);
     if (b.bulk_speed) {
-      const double KT = std::max(tr::tillotson_tangent(p_.eos, p_.rho0, st.JGP / J, e), 0.1 * p_.eos.A);
-      b.bulk_speed[k] = std::sqrt(KT * tr::damaged_bulk(d_, st.D) / d_.K0 / (p_.rho0 / J));
+      const double KT = std::max(tr::tillotson_tangent(p_.eos, p_.density, st.JGP / J, e), 0.1 * p_.eos.A);
+      b.bulk_speed[k] = std::sqrt(KT * tr::damaged_bulk(d_, st.D) / d_.K0 / (p_.density / J));
     }
   }
   tr::Params p_;
@@ -156,7 +156,7 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
   c.add_real("a", d.eos.a, "1", 0.0, 10.0, "Tillotson a");
   c.add_real("b", d.eos.b, "1", 0.0, 10.0, "Tillotson b");
   c.add_real("E0", d.eos.E0, "J/kg", 0.0, 1e15, "Tillotson E0", true);
-  c.add_real("shear_modulus", d.G0, "Pa", 0.0, 1e15, "G0 (basalt 22.7 GPa, Benz & Asphaug 1999)", true);
+  c.add_real("shear_modulus", d.shear_modulus, "Pa", 0.0, 1e15, "G0 (basalt 22.7 GPa, Benz & Asphaug 1999)", true);
   c.add_bool("use_damage", true, "micromechanical wing-crack damage");
   c.add_bool("use_granular", true, "granular flow (Drucker-Prager) and P-alpha compaction");
   c.add_real("KIc", d.KIc, "Pa m^0.5", 0.0, 1e12, "fracture toughness K_IC", true);
@@ -174,11 +174,11 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
   c.add_real("dp_slope", d.dp_slope, "1", 0.0, 10.0, "Drucker-Prager A_DP");
   c.add_real("dp_cohesion", d.dp_cohesion, "Pa", 0.0, 1e12, "Drucker-Prager B_DP");
   c.add_real("granular_time", 0.0, "s", 0.0, 1e6, "Duvaut-Lions relaxation time (0: rate independent)");
-  c.add_real("pa_P0", d.pa_Pe, "Pa", 0.0, 1e15, "P-alpha onset pressure P_e at alpha0", true);
-  c.add_real("pa_alpha0", d.pa_alpha_e, "1", 1.0, 100.0, "P-alpha alpha0", true);
+  c.add_real("pa_P0", d.pa_P0, "Pa", 0.0, 1e15, "P-alpha onset pressure P_e at alpha0", true);
+  c.add_real("pa_alpha0", d.pa_alpha0, "1", 1.0, 100.0, "P-alpha alpha0", true);
   c.add_real("pa_Pc", d.pa_Pc, "Pa", 0.0, 1e15, "P-alpha full-compaction pressure", true);
   c.add_int("flaw_seed", 0, 0, 1LL << 62, "user part of the flaw-sampling seed (xor scene seed)");
-  c.add_choice("flaw_sampling", std::string("poisson"), {"poisson", "expected"},
+  c.add_choice("flaw_sampling", tr::FlawSampling::poisson, tr::kFlawSamplings,
                "poisson: each particle draws its own flaws (Poisson counts from density x particle "
                "volume, El Mir; strength depends on the cell size); expected: every particle carries "
                "the expected density of every bin (continuum population, no particle-volume effect)");
@@ -195,13 +195,13 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
   s.state_fields = tonge_ramesh_state_fields();
   s.create = [](const common::Scene& e) -> std::unique_ptr<Material> {
     tr::Params p = tr::basalt_el_mir();
-    p.rho0 = e.real("density");
+    p.density = e.real("density");
     p.eos.A = e.real("A");
     p.eos.B = e.real("B");
     p.eos.a = e.real("a");
     p.eos.b = e.real("b");
     p.eos.E0 = e.real("E0");
-    p.G0 = e.real("shear_modulus");
+    p.shear_modulus = e.real("shear_modulus");
     p.use_damage = e.boolean("use_damage");
     p.use_granular = e.boolean("use_granular");
     p.KIc = e.real("KIc");
@@ -214,16 +214,15 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
     p.max_damage_inc = e.real("max_damage_inc");
     p.max_substeps = static_cast<int>(e.integer("max_substeps"));
     p.friction_in_tension = e.boolean("friction_in_tension");
-    p.inc_init_damage = e.boolean("include_initial_damage");
+    p.include_initial_damage = e.boolean("include_initial_damage");
     p.dp_slope = e.real("dp_slope");
     p.dp_cohesion = e.real("dp_cohesion");
-    p.gp_time_const = e.real("granular_time");
-    p.pa_Pe = e.real("pa_P0");
-    p.pa_alpha_e = e.real("pa_alpha0");
+    p.granular_time = e.real("granular_time");
+    p.pa_P0 = e.real("pa_P0");
+    p.pa_alpha0 = e.real("pa_alpha0");
     p.pa_Pc = e.real("pa_Pc");
-    p.seed = static_cast<std::uint64_t>(e.integer("flaw_seed"));
-    p.sampling = e.string("flaw_sampling") == "expected" ? tr::FlawSampling::expected
-                                                         : tr::FlawSampling::poisson;
+    p.flaw_seed = static_cast<std::uint64_t>(e.integer("flaw_seed"));
+    p.flaw_sampling = e.choice("flaw_sampling", tr::kFlawSamplings);
     p.populations.clear();
     for (const std::string pre : {"small_", "large_"}) {
       tr::FlawPopulation f;

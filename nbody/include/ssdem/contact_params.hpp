@@ -17,6 +17,7 @@
 /// Adding a new part (Hertz normal law, cohesion) means registering it here and adding its
 /// term to the kernel.
 #pragma once
+#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -32,6 +33,9 @@ enum class SlipRule {
   coulomb,  ///< rescale F_T to mu_s |F_N| and set S so that k_t S + C_t u_t = F_T (strict Coulomb)
   pkdgrav   ///< pkdgrav DoDEM: zero S and apply min(mu_s |F_N|, C_t |u_t|) along u_t
 };
+/// Scene spellings of SlipRule (key contact.tangential.slip).
+inline constexpr std::array kSlipRules{common::Choice{"coulomb", SlipRule::coulomb},
+                                       common::Choice{"pkdgrav", SlipRule::pkdgrav}};
 
 /// Enabled parts as bit flags.
 enum ContactPart : unsigned {

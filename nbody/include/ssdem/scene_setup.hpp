@@ -3,7 +3,9 @@
 ///
 /// Sections: [time] (dt, end, dt rule), [initial] (file or generator), [gravity] (self-gravity
 /// solver, opening angle, update interval, uniform field), [contact] (enabled, preset, parts and
-/// their parameters, k_n rule), [[wall]] (planes), [output] (snapshots, series, checkpoints).
+/// their parameters, k_n rule), [[wall]] (planes), [output] (directory, snapshots, series,
+/// checkpoints, progress), [run] (seed). Key names shared with mpm-frag are spelt as there; the
+/// old names (output.dir, output.snapshot_every, initial.seed) are deprecated aliases.
 /// `ssdem-grav --help-params` prints every key with unit, range and help.
 #pragma once
 #include <string>

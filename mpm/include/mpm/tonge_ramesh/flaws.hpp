@@ -8,7 +8,7 @@
 /// n flaws (exact inverse-CDF draws for n < 20, a truncated normal on s^3 for n >= 20).
 /// QUIRK (PTR uses sqrt(E[s^6]/n) as the spread of mean s^3): fixed, we use the variance
 /// sqrt((E[s^6]-E[s^3]^2)/n), which is the statistically correct standard error.
-/// With Params::sampling == expected every particle instead gets omega_k = eta (F(s_h)-F(s_l)) and
+/// With Params::flaw_sampling == expected every particle instead gets omega_k = eta (F(s_h)-F(s_l)) and
 /// s_k = E[s^3 | s_l..s_h]^(1/3), independent of V and of the random stream (exact sum omega s^3 =
 /// eta E[s^3]).
 /// Poisson counts use KeyedRng::poisson (exact Knuth product below mean 30, rounded normal above;
@@ -31,7 +31,7 @@ double pareto_inverse(double a, double s_l, double s_h, double u);
 std::vector<double> bin_edges(const FlawPopulation& f);
 
 /// Sample all populations of `p` for one particle of initial volume V [m^3] into the bin arrays
-/// omega [1/m^3] and s [m] (each of size p.total_bins()), keyed by (p.seed, particle_id,
+/// omega [1/m^3] and s [m] (each of size p.total_bins()), keyed by (p.flaw_seed, particle_id,
 /// material_id). Returns the initial damage sum omega s^3.
 double sample_flaws(const Params& p, double V, std::uint64_t particle_id, std::uint64_t material_id,
                     double* omega, double* s);

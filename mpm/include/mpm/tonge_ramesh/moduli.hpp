@@ -31,7 +31,7 @@ namespace mpmfrag::tonge_ramesh {
 inline double damaged_bulk(const Derived& d, double D) { return d.K0 / (1.0 + d.kK * D); }
 /// Damaged shear modulus G(D).
 inline double damaged_shear(const Params& p, const Derived& d, double D) {
-  return p.G0 / (1.0 + d.kG * D);
+  return p.shear_modulus / (1.0 + d.kG * D);
 }
 
 /// Cold Tillotson pressure [Pa] (compression positive) at eta = rho_s/rho0 and specific energy e.
@@ -52,13 +52,13 @@ inline double tillotson_tangent(const TillotsonCold& t, double rho0, double eta,
 
 /// Kirchhoff mean stress p_K = J_EL * (-p_T(1/J_EL, e)) * ratio (tension positive), ratio = K(D)/K0.
 inline double kirchhoff_mean(const Params& p, double J_el, double e, double ratio) {
-  return -J_el * tillotson_pressure(p.eos, p.rho0, 1.0 / J_el, e) * ratio;
+  return -J_el * tillotson_pressure(p.eos, p.density, 1.0 / J_el, e) * ratio;
 }
 /// d p_K / d ln J_EL = ratio * J_EL * (K_T - p_T).
 inline double kirchhoff_mean_slope(const Params& p, double J_el, double e, double ratio) {
   const double eta = 1.0 / J_el;
   return ratio * J_el *
-         (tillotson_tangent(p.eos, p.rho0, eta, e) - tillotson_pressure(p.eos, p.rho0, eta, e));
+         (tillotson_tangent(p.eos, p.density, eta, e) - tillotson_pressure(p.eos, p.density, eta, e));
 }
 
 }  // namespace mpmfrag::tonge_ramesh

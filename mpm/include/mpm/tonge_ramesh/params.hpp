@@ -5,9 +5,12 @@
 /// Parameter names follow the PTR list (ARL-SR-0344, Tonge 2015) mapped to SI values; the basalt
 /// preset is El Mir et al. (2019) Table 1 plus the documented assumptions in params.cpp.
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "common/choice.hpp"
 
 namespace mpmfrag::tonge_ramesh {
 
@@ -38,11 +41,15 @@ struct TillotsonCold {
 ///    s_k = E[s^3 | bin k]^(1/3) (PTR's non-random option, RandomizeFlawDist = 0, with the same bin
 ///    edges): the flaw population is a property of the continuum, independent of particle volume.
 enum class FlawSampling { poisson, expected };
+/// Scene spellings of FlawSampling (tonge_ramesh key flaw_sampling).
+inline constexpr std::array kFlawSamplings{common::Choice{"poisson", FlawSampling::poisson},
+                                           common::Choice{"expected", FlawSampling::expected}};
 
-/// All model parameters (SI).
+/// All model parameters (SI). Members read from the scene carry the name of their key in the
+/// tonge_ramesh style (style.cpp), e.g. `density`, `shear_modulus` (G0), `pa_P0` (P_e).
 struct Params {
-  double rho0 = 2700.0;        ///< reference solid density [kg/m^3]
-  double G0 = 22.7e9;          ///< undamaged shear modulus [Pa]
+  double density = 2700.0;        ///< reference solid density rho0 [kg/m^3]
+  double shear_modulus = 22.7e9;  ///< undamaged shear modulus G0 [Pa]
   TillotsonCold eos;           ///< matrix EOS; K0 = eos.A
   bool use_damage = true;      ///< micromechanical wing-crack damage
   bool use_granular = true;    ///< granular (Drucker–Prager) flow + P–alpha compaction
@@ -57,18 +64,18 @@ struct Params {
   double max_damage = 0.2;         ///< D_max: damage frozen [-]
   double max_damage_inc = 1e-4;    ///< Delta D per damage sub-step [-]
   int max_substeps = 2000;         ///< cap on damage sub-steps per step (cost guard)
-  bool inc_init_damage = true;     ///< D = sum w (s+l)^3 (true) or sum w l^3
+  bool include_initial_damage = true;  ///< D = sum w (s+l)^3 (true) or sum w l^3
   bool friction_in_tension = false;  ///< PTR QUIRK 7.3 (true reproduces PTR)
   // granular flow (cone, PTR yield type 1) and P–alpha
   double dp_slope = 0.6;        ///< A_DP [-]
   double dp_cohesion = 0.3e6;   ///< B_DP [Pa]
-  double gp_time_const = 0.0;   ///< Duvaut–Lions relaxation time (0 = rate independent) [s]
+  double granular_time = 0.0;   ///< Duvaut–Lions relaxation time (0 = rate independent) [s]
   double j_loc = 5.0;           ///< J_GP above which the point is flagged localized [-]
-  double pa_Pe = 75e6;          ///< P–alpha P_e ("P0") [Pa]
-  double pa_alpha_e = 1.25;     ///< P–alpha alpha_e ("alpha0") [-]
+  double pa_P0 = 75e6;          ///< P–alpha onset pressure P_e ("P0") [Pa]
+  double pa_alpha0 = 1.25;      ///< P–alpha distension alpha_e at P_e ("alpha0") [-]
   double pa_Pc = 200e6;         ///< P–alpha full-compaction pressure P_c [Pa]
-  std::uint64_t seed = 0;       ///< user part of the flaw-sampling seed
-  FlawSampling sampling = FlawSampling::poisson;  ///< per-particle realisation or expected density
+  std::uint64_t flaw_seed = 0;  ///< user part of the flaw-sampling seed
+  FlawSampling flaw_sampling = FlawSampling::poisson;  ///< per-particle realisation or expected density
 
   /// Total bin count over all populations.
   int total_bins() const {

@@ -82,7 +82,7 @@ UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in
                           Eigen::Matrix3d& sigma, PointState& st, int nbins, const double* omega,
                           const double* s, double* l, StepDiag* diag = nullptr);
 
-/// Initial state after flaw sampling: D0 = sum omega s^3 (capped) if inc_init_damage.
+/// Initial state after flaw sampling: D0 = sum omega s^3 (capped) if include_initial_damage.
 PointState initial_state(const Params& p, int nbins, const double* omega, const double* s);
 
 /// Longitudinal wave speed for the time step: sqrt((K_T(rho_s, e) + 4 G0/3)/rho), undamaged
