@@ -88,7 +88,7 @@ progress_interval = 30.0
 threads = int(os.environ.get("OMP_NUM_THREADS", "2"))
 run_dir = os.path.join(OUT, "run")
 t0 = time.perf_counter()
-rc = subprocess.run([EXE, "--quiet", "--scene", scene, "--set", f'output.dir="{run_dir}"'],
+rc = subprocess.run([EXE, "--quiet", "--scene", scene, "--set", f'output.directory="{run_dir}"'],
                     env=dict(os.environ, OMP_NUM_THREADS=str(threads))).returncode
 wall = time.perf_counter() - t0
 

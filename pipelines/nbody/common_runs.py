@@ -14,7 +14,7 @@ from h5io import read_group  # noqa: E402
 
 def run(exe, scene, outdir, sets, threads=1):
     """Run ssdem-grav with --set overrides; returns wall seconds."""
-    args = [exe, "--quiet", "--scene", scene, "--set", f'output.dir="{outdir}"']
+    args = [exe, "--quiet", "--scene", scene, "--set", f'output.directory="{outdir}"']
     for s in sets:
         args += ["--set", s]
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
