@@ -217,9 +217,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   series_file.commit();
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
   const PhaseTimes& t = sim->times();
-  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, "
-               "integrate {:.3f}",
-               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.contacts, t.integrate);
+  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f} ({} rebuilds), "
+               "contacts {:.3f}, integrate {:.3f}",
+               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.neighbour_builds, t.contacts, t.integrate);
   return 0;
 }
 

@@ -113,7 +113,7 @@ void Simulation::compute_forces(bool initial) {
       }
     }
     const double t0 = omp_get_wtime(), c0 = cpu_now();
-    contacts_->update_neighbors(sp_);
+    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime(), c1 = cpu_now();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
     const double t2 = omp_get_wtime(), c2 = cpu_now();
