@@ -366,3 +366,20 @@ TEST(ContactNeighbours, ComputeWithoutAPairListIsACallerBug) {
   EXPECT_NO_THROW(cs.compute(sp, v, w, 1e-4, F, T));
   EXPECT_FALSE(cs.update_neighbors(sp));  // nothing moved
 }
+
+TEST(ContactPartRegistry, DuplicateNameThrows) {
+  ContactPartRegistry reg;
+  register_builtin_contact_parts(reg);
+  ContactPartInfo dup;
+  dup.name = "rolling";
+  EXPECT_THROW(reg.add(dup), std::invalid_argument);
+  try {
+    reg.add(dup);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "contact part 'rolling' registered twice");
+  }
+  ContactPartInfo fresh;
+  fresh.name = "cohesion";
+  EXPECT_NO_THROW(reg.add(fresh));
+  EXPECT_NE(reg.find("cohesion"), nullptr);
+}
