@@ -53,9 +53,7 @@ void Simulation::setup() {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
   if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
   const std::size_t n = sp_.size();
-  if (sp_.x.size() != n || sp_.v.size() != n || sp_.w.size() != n || sp_.m.size() != n ||
-      sp_.s.size() != n)
-    throw common::InputError("spheres: array sizes differ");
+  if (!sp_.consistent()) throw common::InputError("spheres: array sizes differ");
   for (std::size_t i = 0; i < n; ++i)
     if (!(sp_.m[i] > 0.0) || !(sp_.s[i] > 0.0))
       throw common::InputError("sphere id " + std::to_string(sp_.id[i]) +
