@@ -1,4 +1,9 @@
+/// @file sphere_file.cpp
+/// Writer and reader of `ssdem.spheres` files (sphere_file.hpp); the core arrays come from
+/// SphereSet::zip_arrays.
 #include "common/sphere_file.hpp"
+
+#include <type_traits>
 
 #include "common/atomic_file.hpp"
 #include "item_file.hpp"
@@ -15,11 +20,7 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
                       const H5Hook& extra) {
   using namespace detail;
   const std::size_t n = s.count();
-  check_size("position", s.position.size(), n, 3);
-  check_size("velocity", s.velocity.size(), n, 3);
-  check_size("spin", s.spin.size(), n, 3);
-  check_size("mass", s.mass.size(), n, 1);
-  check_size("radius", s.radius.size(), n, 1);
+  s.for_each_array([&](const SphereArray& a, const auto& v) { check_size(a.name, v.size(), n, a.width); });
   {
     AtomicPath out(path);
     {
@@ -27,12 +28,8 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
       write_header(f, kSphereFormat, kSphereFormatVersion, s.time, s.step);
       {
         h5::Handle g = h5::create_group(f, "spheres");
-        h5::write_dataset(g, "id", s.id.data(), n, 1, "1");
-        h5::write_dataset(g, "position", s.position.data(), n, 3, "m");
-        h5::write_dataset(g, "velocity", s.velocity.data(), n, 3, "m/s");
-        h5::write_dataset(g, "spin", s.spin.data(), n, 3, "rad/s");
-        h5::write_dataset(g, "mass", s.mass.data(), n, 1, "kg");
-        h5::write_dataset(g, "radius", s.radius.data(), n, 1, "m");
+        s.for_each_array(
+            [&](const SphereArray& a, const auto& v) { h5::write_dataset(g, a.name, v.data(), n, a.width, a.unit); });
         write_fields(g, s.fields, n);
       }
       h5::write_provenance(f, prov);
@@ -41,12 +38,14 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
     }
     out.commit();
   }
-  XdmfGrid grid{"spheres", s.time, n, basename(path), "/spheres/position", {}};
-  grid.attributes = {{"id", "/spheres/id", 1, "UInt", 8},
-                     {"velocity", "/spheres/velocity", 3, "Float", 8},
-                     {"spin", "/spheres/spin", 3, "Float", 8},
-                     {"mass", "/spheres/mass", 1, "Float", 8},
-                     {"radius", "/spheres/radius", 1, "Float", 8}};
+  XdmfGrid grid{"spheres", s.time, n, basename(path), {}, {}};
+  SphereSet::zip_arrays([&](const SphereArray& a) {
+    const std::string h5path = std::string("/spheres/") + a.name;
+    if (a.geometry)
+      grid.position_path = h5path;
+    else
+      grid.attributes.push_back({a.name, h5path, a.width, a.scalar == SphereScalar::UInt64 ? "UInt" : "Float", 8});
+  });
   for (auto& a : field_attributes("/spheres", s.fields)) grid.attributes.push_back(a);
   write_xdmf(xdmf_path_for(path), {grid});
 }
@@ -57,20 +56,23 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
   SphereSet s;
   read_header(f, path, kSphereFormat, kSphereFormatVersion, s.time, s.step);
   h5::Handle g = h5::open_group(f, "spheres", path);
-  s.id = h5::read_u64(f, "/spheres/id", -1, 1, path);
-  const auto n = static_cast<long long>(s.id.size());
-  s.position = h5::read_doubles(f, "/spheres/position", n, 3, path);
-  s.velocity = h5::read_doubles(f, "/spheres/velocity", n, 3, path);
-  s.spin = h5::read_doubles(f, "/spheres/spin", n, 3, path);
-  s.mass = h5::read_doubles(f, "/spheres/mass", n, 1, path);
-  s.radius = h5::read_doubles(f, "/spheres/radius", n, 1, path);
-  check_values(path, "/spheres/position", s.position, 3, false);
-  check_values(path, "/spheres/velocity", s.velocity, 3, false);
-  check_values(path, "/spheres/spin", s.spin, 3, false);
-  check_values(path, "/spheres/mass", s.mass, 1, true);
-  check_values(path, "/spheres/radius", s.radius, 1, true);
-  s.fields = read_fields(f, g, "/spheres", path, s.id.size(),
-                         {"id", "position", "velocity", "spin", "mass", "radius"});
+  // The first array (id) sets the count the others must have.
+  long long n = -1;
+  s.for_each_array([&](const SphereArray& a, auto& v) {
+    const std::string p = std::string("/spheres/") + a.name;
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, std::uint64_t>)
+      v = h5::read_u64(f, p, n, a.width, path);
+    else
+      v = h5::read_doubles(f, p, n, a.width, path);
+    if (n < 0) n = static_cast<long long>(v.size() / a.width);
+  });
+  std::vector<std::string> core;
+  s.for_each_array([&](const SphereArray& a, const auto& v) {
+    core.push_back(a.name);
+    if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, double>)
+      check_values(path, "/spheres/" + core.back(), v, a.width, a.positive);
+  });
+  s.fields = read_fields(f, g, "/spheres", path, s.id.size(), core);
   if (extra) extra(f);
   return s;
 }

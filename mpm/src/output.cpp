@@ -49,17 +49,29 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
   return s;
 }
 
-SeriesWriter::SeriesWriter(const std::string& path) : file_(path) {
-  file_.stream() << "step,time_s,dt_s,mass_kg,px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,"
-                    "kinetic_J,internal_J,total_J\n";
-}
+SeriesWriter::SeriesWriter(const std::string& path)
+    : file_(path, common::SeriesFormat({{"step", ""},
+                                        {"time_s", "s"},
+                                        {"dt_s", "s"},
+                                        {"mass_kg", "kg"},
+                                        {"px_kgm_s", "kg m/s"},
+                                        {"py_kgm_s", "kg m/s"},
+                                        {"pz_kgm_s", "kg m/s"},
+                                        {"Lx_kgm2_s", "kg m^2/s"},
+                                        {"Ly_kgm2_s", "kg m^2/s"},
+                                        {"Lz_kgm2_s", "kg m^2/s"},
+                                        {"kinetic_J", "J"},
+                                        {"internal_J", "J"},
+                                        {"total_J", "J"}},
+                                       {.precision = 12})) {}
 
 void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d) {
-  std::ostream& out = file_.stream();
-  out << step << std::setprecision(12) << ',' << t << ',' << dt << ',' << d.mass << ',' << d.momentum[0] << ','
-      << d.momentum[1] << ',' << d.momentum[2] << ',' << d.angular_momentum[0] << ',' << d.angular_momentum[1]
-      << ',' << d.angular_momentum[2] << ',' << d.kinetic << ',' << d.internal << ',' << d.total() << '\n';
-  file_.flush();
+  common::SeriesRow row = file_.row();
+  row.integer(step).num(t).num(dt).num(d.mass);
+  row.num(d.momentum[0]).num(d.momentum[1]).num(d.momentum[2]);
+  row.num(d.angular_momentum[0]).num(d.angular_momentum[1]).num(d.angular_momentum[2]);
+  row.num(d.kinetic).num(d.internal).num(d.total());
+  file_.write(row);
 }
 
 }  // namespace mpmfrag

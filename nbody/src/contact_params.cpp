@@ -2,12 +2,17 @@
 #include "ssdem/contact_params.hpp"
 
 #include <sstream>
+#include <stdexcept>
 
 #include "common/status.hpp"
 
 namespace ssdem {
 
-void ContactPartRegistry::add(ContactPartInfo info) { parts_[info.name] = std::move(info); }
+void ContactPartRegistry::add(ContactPartInfo info) {
+  if (parts_.count(info.name)) throw std::invalid_argument("contact part '" + info.name + "' registered twice");
+  std::string key = info.name;
+  parts_.emplace(std::move(key), std::move(info));
+}
 
 const ContactPartInfo* ContactPartRegistry::find(const std::string& name) const {
   auto it = parts_.find(name);

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "common/status.hpp"
@@ -73,6 +74,7 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   if (n >= std::numeric_limits<std::uint32_t>::max())
     throw common::InputError("ssdem: more than 2^32-1 spheres are not supported");
   ++rebuilds_;
+  rebuilt_since_compute_ = true;
   xref_ = sp.x;
   double smax = 0.0;
   Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
@@ -285,9 +287,12 @@ template <unsigned PARTS>
 ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                                          const std::vector<Vec3>& wpred, double h,
                                          std::vector<Vec3>& F, std::vector<Vec3>& T) {
-  ContactStats st;
-  st.rebuilt = update_neighbors(sp);
   const std::size_t n = sp.size();
+  if (xref_.size() != n || import_)
+    throw std::logic_error("ContactSystem::compute: no pair list for these spheres (update_neighbors first)");
+  ContactStats st;
+  st.rebuilt = rebuilt_since_compute_;
+  rebuilt_since_compute_ = false;
   const std::size_t P = pi_.size();
   F.resize(n);
   T.resize(n);

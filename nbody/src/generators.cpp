@@ -82,8 +82,13 @@ Spheres random_cloud(std::size_t n, double R, double s, double rho, std::uint64_
 void append_body(Spheres& a, const Spheres& b, const Vec3& shift, const Vec3& velocity) {
   std::uint64_t next = 0;
   for (auto id : a.id) next = std::max(next, id + 1);
-  for (std::size_t i = 0; i < b.size(); ++i)
-    a.push(next + i, b.x[i] + shift, b.v[i] + velocity, b.w[i], b.m[i], b.s[i]);
+  const std::size_t first = a.size();
+  a.append(b);
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    a.id[first + i] = next + i;
+    a.x[first + i] += shift;
+    a.v[first + i] += velocity;
+  }
 }
 
 Spheres plummer(std::size_t n, double M, double a, double G, double s, std::uint64_t seed) {

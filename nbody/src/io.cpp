@@ -1,5 +1,11 @@
-// Snapshot and checkpoint files (io.hpp).
+/// @file io.cpp
+/// Snapshot and checkpoint files (io.hpp); the sphere arrays go through Spheres::zip_arrays.
 #include "ssdem/io.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string_view>
+#include <type_traits>
 
 #include "common/h5.hpp"
 #include "common/status.hpp"
@@ -17,31 +23,67 @@ std::vector<Vec3> unflat(const std::vector<double>& f) {
   for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
   return v;
 }
+std::vector<double> flat(const std::vector<double>& v) { return v; }
+
+// Copy one array between the in-memory form (Vec3 rows) and the file form (flat values).
+template <class From, class To>
+void convert(const std::vector<From>& from, std::vector<To>& to) {
+  if constexpr (std::is_same_v<From, To>)
+    to = from;
+  else if constexpr (std::is_same_v<From, Vec3> && std::is_same_v<To, double>)
+    to = flat(from);
+  else if constexpr (std::is_same_v<From, double> && std::is_same_v<To, Vec3>)
+    to = unflat(from);
+  else
+    throw std::logic_error("sphere array: element types of the run and the file do not match");
+}
+
+// Call f(file array) for the core array of `s` named `name`; returns false if there is none.
+template <class Set, class F>
+bool with_core_array(Set& s, const char* name, F&& f) {
+  bool found = false;
+  s.for_each_array([&](const common::SphereArray& a, auto& arr) {
+    if (std::string_view(a.name) == name) {
+      found = true;
+      f(arr);
+    }
+  });
+  return found;
+}
 }  // namespace
 
 common::SphereSet to_sphere_set(const Spheres& sp, double time, std::int64_t step) {
   common::SphereSet s;
   s.time = time;
   s.step = step;
-  s.id = sp.id;
-  s.position = flat(sp.x);
-  s.velocity = flat(sp.v);
-  s.spin = flat(sp.w);
-  s.mass = sp.m;
-  s.radius = sp.s;
   s.fields = sp.carried;
+  sp.for_each_array([&](const common::SphereArray& a, const auto& arr) {
+    if (!with_core_array(s, a.name, [&](auto& to) { convert(arr, to); })) {
+      if constexpr (std::is_same_v<typename std::decay_t<decltype(arr)>::value_type, std::uint64_t>)
+        throw std::logic_error(std::string("sphere array '") + a.name + "': only float arrays can be fields");
+      else
+        s.fields.push_back({a.name, a.unit, a.width, flat(arr), {}});
+    }
+  });
   return s;
 }
 
 Spheres from_sphere_set(const common::SphereSet& s) {
   Spheres sp;
-  sp.id = s.id;
-  sp.x = unflat(s.position);
-  sp.v = unflat(s.velocity);
-  sp.w = unflat(s.spin);
-  sp.m = s.mass;
-  sp.s = s.radius;
   sp.carried = s.fields;
+  sp.for_each_array([&](const common::SphereArray& a, auto& arr) {
+    if (with_core_array(s, a.name, [&](const auto& from) { convert(from, arr); })) return;
+    // not a core array of the file: the field of that name (absent: zero, e.g. a fresh input)
+    auto f = std::find_if(sp.carried.begin(), sp.carried.end(),
+                          [&](const common::Field& fl) { return fl.name == a.name; });
+    if (f == sp.carried.end()) return;
+    if (f->ncomp != a.width)
+      throw common::InputError("", std::string("/spheres/") + a.name,
+                               "has " + std::to_string(f->ncomp) + " components, expected " + std::to_string(a.width));
+    convert(f->values, arr);
+    sp.carried.erase(f);
+  });
+  sp.resize(s.count());
   return sp;
 }
 

@@ -8,11 +8,11 @@
 #include <csignal>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
 #include "common/log.hpp"
+#include "common/series_csv.hpp"
 #include "common/status.hpp"
 #include "ssdem/io.hpp"
 #include "ssdem/scene_setup.hpp"
@@ -28,33 +28,27 @@ std::string snap_name(const std::string& dir, std::int64_t step) {
   return (std::filesystem::path(dir) / buf).string();
 }
 
-const char* kSeriesHeader =
-    "step,time_s,kinetic_J,rotational_J,potential_self_J,potential_uniform_J,elastic_J,total_J,"
-    "px_kgm_s,py_kgm_s,pz_kgm_s,Lx_kgm2_s,Ly_kgm2_s,Lz_kgm2_s,contacts,wall_contacts,"
-    "max_overlap_frac,wall_s";
-
-std::vector<std::string> read_lines(const std::string& path) {
-  std::vector<std::string> lines;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);) lines.push_back(line);
-  return lines;
-}
-
-// The series a restart continues: the rows up to and including `step` of the run the
-// checkpoint came from. That run's rows are in `<series>.partial` if it never committed them
-// (killed, I/O failure) and the partial file reaches the checkpoint, else in the series itself.
-std::string series_to_continue(const std::string& path, std::int64_t step) {
-  std::vector<std::string> lines = read_lines(common::PartialFile::partial_name(path));
-  if (lines.size() < 2 || std::atoll(lines.back().c_str()) < step) lines = read_lines(path);
-  const std::string header(kSeriesHeader);
-  const auto columns = std::count(header.begin(), header.end(), ',');
-  std::ostringstream keep;
-  keep << header << '\n';
-  for (std::size_t i = 1; i < lines.size(); ++i) {
-    const std::string& l = lines[i];  // a row cut short by a crash has fewer columns: dropped
-    if (std::count(l.begin(), l.end(), ',') == columns && std::atoll(l.c_str()) <= step) keep << l << '\n';
-  }
-  return keep.str();
+// series.csv: one row per output step (diagnostics at a gravity-block boundary).
+common::SeriesFormat series_format() {
+  return common::SeriesFormat({{"step", ""},
+                               {"time_s", "s"},
+                               {"kinetic_J", "J"},
+                               {"rotational_J", "J"},
+                               {"potential_self_J", "J"},
+                               {"potential_uniform_J", "J"},
+                               {"elastic_J", "J"},
+                               {"total_J", "J"},
+                               {"px_kgm_s", "kg m/s"},
+                               {"py_kgm_s", "kg m/s"},
+                               {"pz_kgm_s", "kg m/s"},
+                               {"Lx_kgm2_s", "kg m^2/s"},
+                               {"Ly_kgm2_s", "kg m^2/s"},
+                               {"Lz_kgm2_s", "kg m^2/s"},
+                               {"contacts", ""},
+                               {"wall_contacts", ""},
+                               {"max_overlap_frac", "1"},
+                               {"wall_s", "s"}},
+                              {.precision = 17});
 }
 }  // namespace
 
@@ -122,27 +116,23 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
 
   // Rows go to series.csv.partial and are renamed onto series.csv when the run ends, stops on a
   // numerical failure (after saving its state) or on a signal (after its checkpoint); a run that
-  // fails otherwise leaves an earlier series.csv as it was.
-  const std::string continued = restart.empty() ? std::string(kSeriesHeader) + "\n"
-                                                : series_to_continue(series_path, sim->step_count());
-  common::PartialFile series_file(series_path);
-  std::ostream& series = series_file.stream();
-  series << continued;
-  series_file.flush();
-  series.precision(17);
+  // fails otherwise leaves an earlier series.csv as it was. A restart continues the series of
+  // the run its checkpoint came from, up to the checkpoint's step.
+  common::SeriesFile series_file(series_path, series_format(),
+                                 restart.empty() ? std::nullopt : std::optional(sim->step_count()));
 
   double E0 = NAN;
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   auto write_row = [&]() {
     const Diagnostics d = sim->diagnostics();
     if (std::isnan(E0)) E0 = d.total();
-    series << sim->step_count() << ',' << sim->time() << ',' << d.kinetic << ',' << d.rotational
-           << ',' << d.potential_self << ',' << d.potential_uniform << ',' << d.elastic << ','
-           << d.total() << ',' << d.momentum.x() << ',' << d.momentum.y() << ',' << d.momentum.z()
-           << ',' << d.angular_momentum.x() << ',' << d.angular_momentum.y() << ','
-           << d.angular_momentum.z() << ',' << d.contacts << ',' << d.wall_contacts << ','
-           << d.max_overlap_frac << ',' << progress.elapsed() << '\n';
-    series_file.flush();
+    common::SeriesRow row = series_file.row();
+    row.integer(sim->step_count()).num(sim->time()).num(d.kinetic).num(d.rotational);
+    row.num(d.potential_self).num(d.potential_uniform).num(d.elastic).num(d.total());
+    row.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
+    row.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
+    row.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(progress.elapsed());
+    series_file.write(row);
     const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
   };
@@ -217,9 +207,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   series_file.commit();
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
   const PhaseTimes& t = sim->times();
-  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, "
-               "integrate {:.3f}",
-               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.contacts, t.integrate);
+  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f} ({} rebuilds), "
+               "contacts {:.3f}, integrate {:.3f}",
+               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.neighbour_builds, t.contacts, t.integrate);
   return 0;
 }
 

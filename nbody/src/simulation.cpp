@@ -53,9 +53,7 @@ void Simulation::setup() {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
   if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
   const std::size_t n = sp_.size();
-  if (sp_.x.size() != n || sp_.v.size() != n || sp_.w.size() != n || sp_.m.size() != n ||
-      sp_.s.size() != n)
-    throw common::InputError("spheres: array sizes differ");
+  if (!sp_.consistent()) throw common::InputError("spheres: array sizes differ");
   for (std::size_t i = 0; i < n; ++i)
     if (!(sp_.m[i] > 0.0) || !(sp_.s[i] > 0.0))
       throw common::InputError("sphere id " + std::to_string(sp_.id[i]) +
@@ -113,7 +111,7 @@ void Simulation::compute_forces(bool initial) {
       }
     }
     const double t0 = omp_get_wtime(), c0 = cpu_now();
-    contacts_->update_neighbors(sp_);
+    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime(), c1 = cpu_now();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
     const double t2 = omp_get_wtime(), c2 = cpu_now();

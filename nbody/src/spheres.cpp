@@ -1,25 +1,36 @@
-// SoA sphere storage (spheres.hpp).
+/// @file spheres.cpp
+/// SoA sphere storage (spheres.hpp): every operation goes through Spheres::zip_arrays.
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
 
+bool Spheres::consistent() const {
+  bool ok = true;
+  for_each_array([&](const common::SphereArray&, const auto& a) { ok = ok && a.size() == size(); });
+  return ok;
+}
+
 void Spheres::resize(std::size_t n) {
-  id.resize(n, 0);
-  x.resize(n, Vec3::Zero());
-  v.resize(n, Vec3::Zero());
-  w.resize(n, Vec3::Zero());
-  m.resize(n, 0.0);
-  s.resize(n, 0.0);
+  for_each_array([&](const common::SphereArray&, auto& a) {
+    a.resize(n, zero<typename std::decay_t<decltype(a)>::value_type>());
+  });
 }
 
 void Spheres::push(std::uint64_t id_, const Vec3& x_, const Vec3& v_, const Vec3& w_, double m_,
                    double s_) {
-  id.push_back(id_);
-  x.push_back(x_);
-  v.push_back(v_);
-  w.push_back(w_);
-  m.push_back(m_);
-  s.push_back(s_);
+  const std::size_t i = size();
+  resize(i + 1);
+  id[i] = id_;
+  x[i] = x_;
+  v[i] = v_;
+  w[i] = w_;
+  m[i] = m_;
+  s[i] = s_;
+}
+
+void Spheres::append(const Spheres& o) {
+  zip_arrays([](const common::SphereArray&, auto& to, const auto& from) { to.insert(to.end(), from.begin(), from.end()); },
+             *this, o);
 }
 
 }  // namespace ssdem

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "common/status.hpp"
 #include "ssdem/contact_params.hpp"
@@ -322,4 +323,63 @@ TEST(DtRule, RefusesDtThatCannotResolveAContact) {
   c.contact = stiff;
   c.dt = dt30;
   EXPECT_THROW(Simulation(sp, c), common::InputError);
+}
+
+// The pair list is rebuilt in one place (Simulation, before the force computation): the per-step
+// flag, the run's rebuild count and the contact system's count agree, and rebuilds do happen.
+TEST(ContactNeighbours, RebuiltFlagMatchesRebuildCounts) {
+  const double s = 0.01, m = 1e-2;
+  ContactParams p;
+  p.parts = kPartDamping;
+  p.kn = 1e5;
+  p.en = 0.5;
+  Spheres sp;
+  sp.push(0, Vec3(-3 * s, 0, 0), Vec3(1, 0, 0), Vec3::Zero(), m, s);
+  sp.push(1, Vec3(3 * s, 0, 0), Vec3(-1, 0, 0), Vec3::Zero(), m, s);
+  SimConfig c;
+  c.contacts = true;
+  c.contact = p;
+  c.dt = p.contact_time(0.5 * m) / 50;
+  Simulation sim(sp, c);
+  EXPECT_TRUE(sim.contact_stats().rebuilt);  // the first build
+  EXPECT_EQ(sim.times().neighbour_builds, 1);
+  std::int64_t flagged = 0;
+  for (int k = 0; k < 400; ++k) {
+    sim.step();
+    if (sim.contact_stats().rebuilt) ++flagged;
+  }
+  EXPECT_GT(flagged, 5);  // each sphere moves ~0.56 s, about 11 x skin/2 (skin = 0.1 s)
+  EXPECT_LT(flagged, 400);
+  EXPECT_EQ(sim.times().neighbour_builds, flagged + 1);
+  EXPECT_EQ(static_cast<std::int64_t>(sim.contact_system()->rebuild_count()), flagged + 1);
+}
+
+TEST(ContactNeighbours, ComputeWithoutAPairListIsACallerBug) {
+  ContactParams p;
+  p.kn = 1e5;
+  ContactSystem cs(p, {}, 1e-3);
+  Spheres sp;
+  sp.push(0, Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 1.0, 0.01);
+  std::vector<Vec3> v(1, Vec3::Zero()), w(1, Vec3::Zero()), F, T;
+  EXPECT_THROW(cs.compute(sp, v, w, 1e-4, F, T), std::logic_error);
+  EXPECT_TRUE(cs.update_neighbors(sp));
+  EXPECT_NO_THROW(cs.compute(sp, v, w, 1e-4, F, T));
+  EXPECT_FALSE(cs.update_neighbors(sp));  // nothing moved
+}
+
+TEST(ContactPartRegistry, DuplicateNameThrows) {
+  ContactPartRegistry reg;
+  register_builtin_contact_parts(reg);
+  ContactPartInfo dup;
+  dup.name = "rolling";
+  EXPECT_THROW(reg.add(dup), std::invalid_argument);
+  try {
+    reg.add(dup);
+  } catch (const std::invalid_argument& e) {
+    EXPECT_STREQ(e.what(), "contact part 'rolling' registered twice");
+  }
+  ContactPartInfo fresh;
+  fresh.name = "cohesion";
+  EXPECT_NO_THROW(reg.add(fresh));
+  EXPECT_NE(reg.find("cohesion"), nullptr);
 }

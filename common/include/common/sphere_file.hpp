@@ -8,6 +8,8 @@
 ///   /provenance attrs: tool, version, git_sha, command_line, scene
 /// Tools may add groups (hand-off audit and id map, contact history in checkpoints) through
 /// the extra hook. Every dataset has a `unit` attribute; XDMF sidecar beside it.
+/// The core arrays are enumerated once, in SphereSet::zip_arrays (name, unit, type, width);
+/// the writer, the reader, the size checks and the XDMF sidecar all go through it.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -22,6 +24,29 @@ namespace common {
 inline constexpr const char* kSphereFormat = "ssdem.spheres";
 inline constexpr std::int64_t kSphereFormatVersion = 1;
 
+/// Element type of a sphere array.
+enum class SphereScalar { UInt64, Float64 };
+
+/// Descriptor of one per-sphere array: HDF5 dataset `/spheres/<name>`, `width` values of type
+/// `scalar` per sphere (1: a 1-D dataset of length N, else N x width).
+struct SphereArray {
+  const char* name;
+  const char* unit;       ///< SI unit; "1" for ids and dimensionless values
+  SphereScalar scalar = SphereScalar::Float64;
+  std::size_t width = 1;
+  bool positive = false;  ///< the reader requires every value > 0
+  bool geometry = false;  ///< the XDMF geometry (positions), not an attribute
+  constexpr std::size_t bytes() const { return width * 8; }
+};
+
+/// The core arrays of every sphere file, in file order.
+inline constexpr SphereArray kSphereId{"id", "1", SphereScalar::UInt64, 1};
+inline constexpr SphereArray kSpherePosition{"position", "m", SphereScalar::Float64, 3, false, true};
+inline constexpr SphereArray kSphereVelocity{"velocity", "m/s", SphereScalar::Float64, 3};
+inline constexpr SphereArray kSphereSpin{"spin", "rad/s", SphereScalar::Float64, 3};
+inline constexpr SphereArray kSphereMass{"mass", "kg", SphereScalar::Float64, 1, true};
+inline constexpr SphereArray kSphereRadius{"radius", "m", SphereScalar::Float64, 1, true};
+
 struct SphereSet {
   double time = 0.0;
   std::int64_t step = 0;
@@ -35,6 +60,23 @@ struct SphereSet {
 
   std::size_t count() const { return id.size(); }
   const Field* field(const std::string& name) const;
+
+  /// The one list of the core arrays: f(const SphereArray&, std::vector<T>& of each set...) in
+  /// file order, for any number of sets (zero: descriptors only). Adding a core array is one line here.
+  template <class F, class... S>
+  static constexpr void zip_arrays(F&& f, S&... s) {
+    f(kSphereId, s.id...);
+    f(kSpherePosition, s.position...);
+    f(kSphereVelocity, s.velocity...);
+    f(kSphereSpin, s.spin...);
+    f(kSphereMass, s.mass...);
+    f(kSphereRadius, s.radius...);
+  }
+  /// f(const SphereArray&, array) for each core array (flat: N * width values).
+  template <class F>
+  void for_each_array(F&& f) { zip_arrays(f, *this); }
+  template <class F>
+  void for_each_array(F&& f) const { zip_arrays(f, *this); }
 };
 
 void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,

@@ -6,6 +6,7 @@
 
 #include "common/atomic_file.hpp"
 #include "common/particle_file.hpp"
+#include "common/series_csv.hpp"
 #include "mpm/solver.hpp"
 
 namespace mpmfrag {
@@ -16,9 +17,11 @@ namespace mpmfrag {
 common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
                                        const common::GridInfo& grid, double time, std::int64_t step);
 
-/// Time series: one CSV row per call. Rows go to `<path>.partial`; commit() renames it onto
-/// `path` (end of the run, or a numerical failure after the last good state was saved), so a
-/// run that fails otherwise never replaces an earlier series (common::PartialFile).
+/// Time series: one CSV row per call (a common::SeriesFile; columns declared in output.cpp, 12
+/// significant digits).
+/// Rows go to `<path>.partial`; commit() renames it onto `path` (end of the run, or a numerical
+/// failure after the last good state was saved), so a run that fails otherwise never replaces
+/// an earlier series (common::PartialFile).
 class SeriesWriter {
  public:
   /// Creates `<path>.partial` and writes the header. Throws common::IoError.
@@ -29,7 +32,7 @@ class SeriesWriter {
   void commit() { file_.commit(); }
 
  private:
-  common::PartialFile file_;
+  common::SeriesFile file_;
 };
 
 }  // namespace mpmfrag

@@ -14,6 +14,7 @@
 #include "common/atomic_file.hpp"
 #include "common/h5.hpp"
 #include "common/particle_file.hpp"
+#include "common/series_csv.hpp"
 #include "common/status.hpp"
 
 namespace analysis {
@@ -280,28 +281,53 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg_in) {
 }
 
 std::string timeseries_csv(const AnalysisOutcome& o) {
-  std::ostringstream s;
-  s << "time,M_LR_over_M_PB,bound_mass_fraction,beta,n_clumps,escaping_mass,"
-       "step,file,n_spheres,n_single,lr_spheres,M_LR,bound_mass,total_mass,n_bound_clumps,"
-       "p_esc_x,p_esc_y,p_esc_z,p_esc_along_impact,beta_lr,beta_ejecta,beta_vector,beta_total,momentum_error,"
-       "bound_iterations,speed_escaping_mass,beta_escape_speed\n";
+  // 12 significant digits, NaN/Inf and absent values as empty cells (as fmt_num).
+  common::SeriesTable t(common::SeriesFormat({{"time", "s"},
+                                              {"M_LR_over_M_PB", "1"},
+                                              {"bound_mass_fraction", "1"},
+                                              {"beta", "1"},
+                                              {"n_clumps", ""},
+                                              {"escaping_mass", "kg"},
+                                              {"step", ""},
+                                              {"file", ""},
+                                              {"n_spheres", ""},
+                                              {"n_single", ""},
+                                              {"lr_spheres", ""},
+                                              {"M_LR", "kg"},
+                                              {"bound_mass", "kg"},
+                                              {"total_mass", "kg"},
+                                              {"n_bound_clumps", ""},
+                                              {"p_esc_x", "kg m/s"},
+                                              {"p_esc_y", "kg m/s"},
+                                              {"p_esc_z", "kg m/s"},
+                                              {"p_esc_along_impact", "kg m/s"},
+                                              {"beta_lr", "1"},
+                                              {"beta_ejecta", "1"},
+                                              {"beta_vector", "1"},
+                                              {"beta_total", "1"},
+                                              {"momentum_error", "1"},
+                                              {"bound_iterations", ""},
+                                              {"speed_escaping_mass", "kg"},
+                                              {"beta_escape_speed", "1"}},
+                                             {.precision = 12, .blank_non_finite = true}));
   const double mpb = o.parent_body_mass;
   for (const auto& r : o.rows) {
     const auto& b = r.bound;
     const Eigen::Vector3d pe = r.beta ? r.beta->escaping_momentum : b.escaping_momentum;
-    s << fmt_num(r.time) << ',' << fmt_num(b.lr_mass / mpb) << ',' << fmt_num(b.bound_mass / mpb) << ','
-      << (r.beta ? fmt_num(r.beta->beta) : "") << ',' << r.n_clumps << ',' << fmt_num(b.escaping_mass) << ','
-      << r.step << ',' << r.file << ',' << r.n_spheres << ',' << r.n_singles << ',' << r.lr_count << ','
-      << fmt_num(b.lr_mass) << ',' << fmt_num(b.bound_mass) << ',' << fmt_num(b.total_mass) << ','
-      << b.n_bound_clumps << ',' << fmt_num(pe[0]) << ',' << fmt_num(pe[1]) << ',' << fmt_num(pe[2]) << ','
-      << (r.beta ? fmt_num(r.beta->escaping_momentum_along) : "") << ','
-      << (r.beta ? fmt_num(r.beta->beta_lr) : "") << ',' << (r.beta ? fmt_num(r.beta->beta_ejecta) : "") << ','
-      << (r.beta && r.beta->beta_vector ? fmt_num(*r.beta->beta_vector) : "") << ','
-      << (r.beta ? fmt_num(r.beta->beta_total) : "") << ',' << (r.beta ? fmt_num(r.beta->momentum_error) : "")
-      << ',' << b.iterations << ',' << fmt_num(r.speed_escaping_mass) << ','
-      << (r.beta_escape_speed ? fmt_num(*r.beta_escape_speed) : "") << '\n';
+    auto beta = [&](double BetaResult::*m) { return r.beta ? std::optional<double>((*r.beta).*m) : std::nullopt; };
+    common::SeriesRow row = t.row();
+    row.num(r.time).num(b.lr_mass / mpb).num(b.bound_mass / mpb).num(beta(&BetaResult::beta));
+    row.integer(r.n_clumps).num(b.escaping_mass).integer(r.step).text(r.file);
+    row.integer(r.n_spheres).integer(r.n_singles).integer(r.lr_count);
+    row.num(b.lr_mass).num(b.bound_mass).num(b.total_mass).integer(b.n_bound_clumps);
+    row.num(pe[0]).num(pe[1]).num(pe[2]).num(beta(&BetaResult::escaping_momentum_along));
+    row.num(beta(&BetaResult::beta_lr)).num(beta(&BetaResult::beta_ejecta));
+    row.num(r.beta ? r.beta->beta_vector : std::nullopt);
+    row.num(beta(&BetaResult::beta_total)).num(beta(&BetaResult::momentum_error));
+    row.integer(b.iterations).num(r.speed_escaping_mass).num(r.beta_escape_speed);
+    t.add(row);
   }
-  return s.str();
+  return t.str();
 }
 
 std::string damage_csv(const AnalysisOutcome& o) {

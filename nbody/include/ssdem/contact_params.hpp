@@ -97,6 +97,7 @@ struct ContactPartInfo {
 /// Explicit registry of contact parts (no static self-registration).
 class ContactPartRegistry {
  public:
+  /// Register a part. Throws std::invalid_argument if a part of that name is already registered.
   void add(ContactPartInfo info);
   const ContactPartInfo* find(const std::string& name) const;
   std::vector<std::string> names() const;

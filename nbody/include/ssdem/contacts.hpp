@@ -41,7 +41,7 @@ struct ContactStats {
   std::size_t wall_contacts = 0;
   double max_overlap_frac = 0.0;  ///< max overlap / smaller radius
   std::size_t worst_a = 0, worst_b = 0;  ///< indices of the worst pair (b = a for a wall)
-  bool rebuilt = false;
+  bool rebuilt = false;  ///< the pair list was rebuilt since the previous compute()
 };
 
 class ContactSystem {
@@ -52,10 +52,13 @@ class ContactSystem {
   const std::vector<Plane>& walls() const { return walls_; }
   double skin() const { return skin_; }
 
-  /// Rebuild the pair list if needed (or if `force`). Returns whether it rebuilt.
+  /// Rebuild the pair list if needed (or if `force`). Returns whether it rebuilt. The caller
+  /// (Simulation::compute_forces) calls it once before every compute(); nothing else does.
   bool update_neighbors(const Spheres& sp, bool force = false);
   /// Contact forces and torques for all spheres (overwrites F and T), using predicted
-  /// velocities/spins vpred/wpred and half-step spins for the transport rotation.
+  /// velocities/spins vpred/wpred and half-step spins for the transport rotation. Uses the pair
+  /// list as left by update_neighbors() / import_history() (std::logic_error if there is none for
+  /// these spheres); ContactStats::rebuilt says whether it was rebuilt since the last compute().
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
                        std::vector<Vec3>& T);
@@ -101,6 +104,7 @@ class ContactSystem {
   std::vector<double> wthq_;
   std::vector<Vec3> xref_;
   std::size_t rebuilds_ = 0;
+  bool rebuilt_since_compute_ = false;
   std::vector<HistoryRecord> pending_;  // imported history waiting for the first build
   bool import_ = false;
 };

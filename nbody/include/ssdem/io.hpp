@@ -20,7 +20,8 @@
 
 namespace ssdem {
 
-/// Convert to/from the common file structure (ids, fields carried).
+/// Convert to/from the common file structure: every array of Spheres::zip_arrays (the file's core
+/// arrays by name, any other one as the per-sphere field of its name) and the carried fields.
 common::SphereSet to_sphere_set(const Spheres& sp, double time, std::int64_t step);
 Spheres from_sphere_set(const common::SphereSet& s);
 

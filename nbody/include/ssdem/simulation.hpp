@@ -78,6 +78,7 @@ struct PhaseTimes {
   double gravity = 0, neighbours = 0, contacts = 0, integrate = 0;
   double cpu_gravity = 0, cpu_neighbours = 0, cpu_contacts = 0, cpu_integrate = 0;
   std::int64_t steps = 0, gravity_evals = 0;
+  std::int64_t neighbour_builds = 0;  ///< pair-list rebuilds (in `neighbours`; not the one at a restart)
 };
 
 class Simulation {
