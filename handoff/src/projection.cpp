@@ -110,12 +110,8 @@ ProjectionResult project_to_spheres(const common::ParticleSnapshot& s, const Pro
   common::SphereSet& out = r.spheres;
   out.time = s.time;
   out.step = s.step;
-  out.id.resize(ns);
-  out.position.resize(3 * ns);
-  out.velocity.resize(3 * ns);
-  out.spin.assign(3 * ns, 0.0);
-  out.mass.resize(ns);
-  out.radius.assign(ns, 0.5 * cg.edge);
+  out.resize(ns);  // spins stay zero: the paper's hand-off gives spheres no spin
+  std::fill(out.radius.begin(), out.radius.end(), 0.5 * cg.edge);
   for (const auto* f : carry) out.fields.push_back({f->name, f->unit, 1, std::vector<double>(ns), "mass-weighted mean over the sphere's particles"});
   r.map.offset.resize(ns + 1);
   r.map.particle_id.resize(n);

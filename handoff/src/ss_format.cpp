@@ -100,12 +100,7 @@ common::SphereSet read_ss(const std::string& path, const SsUnits& u) {
   const double vel = u.length / u.time, spin = 1.0 / u.time;
   common::SphereSet s;
   s.time = time * u.time;
-  s.id.resize(n);
-  s.mass.resize(n);
-  s.radius.resize(n);
-  s.position.resize(3 * n);
-  s.velocity.resize(3 * n);
-  s.spin.resize(3 * n);
+  s.resize(static_cast<std::size_t>(n));
   for (std::int32_t i = 0; i < n; ++i) {
     const unsigned char* r = p + kHeader + kRecord * static_cast<std::size_t>(i);
     double v[11];

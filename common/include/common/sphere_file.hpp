@@ -77,6 +77,10 @@ struct SphereSet {
   void for_each_array(F&& f) { zip_arrays(f, *this); }
   template <class F>
   void for_each_array(F&& f) const { zip_arrays(f, *this); }
+  /// Size every core array for `n` spheres (N * width values; new entries are zero).
+  void resize(std::size_t n) {
+    for_each_array([n](const SphereArray& a, auto& v) { v.resize(n * a.width); });
+  }
 };
 
 void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,
