@@ -43,7 +43,7 @@
 #include <vector>
 
 #include "common/branchless.hpp"
-#include "common/particle_file.hpp"
+#include "common/grid.hpp"
 
 namespace mpmfrag {
 
