@@ -7,6 +7,17 @@
 
 namespace mpmfrag {
 
+namespace {
+constexpr std::size_t array_count() {
+  std::size_t n = 0;
+  ParticleSet::for_each_array([&](const auto&) { ++n; });
+  return n;
+}
+}  // namespace
+// Guard of the single list: every member of ParticleSet is an array named in for_each_array.
+static_assert(sizeof(ParticleSet) == array_count() * sizeof(std::vector<double>),
+              "a ParticleSet member is missing from ParticleSet::for_each_array");
+
 void ParticleSet::resize(std::size_t n, bool with_q) {
   const std::size_t old = id.size();
   for_each_array([&](const auto& a) {

@@ -59,7 +59,7 @@ struct ParticleSet {
   /// Call f(ParticleArray<T>) for every array above, in this order (which is also the order of
   /// the state datasets stress, internal_energy in snapshots).
   template <class F>
-  static void for_each_array(F&& f) {
+  static constexpr void for_each_array(F&& f) {
     using u64 = ParticleArray<std::uint64_t>;
     using i32 = ParticleArray<std::int32_t>;
     using f64 = ParticleArray<double>;
