@@ -1,13 +1,56 @@
 /// @file output.cpp
-/// Snapshot assembly and the time-series CSV (no physics here).
+/// Snapshot assembly (the particle-array -> dataset mapping shared with the outflow record) and
+/// the time-series CSV (no physics here).
 #include "mpm/output.hpp"
 
 #include <iomanip>
 #include <map>
+#include <stdexcept>
+#include <string_view>
+#include <type_traits>
 
 #include "common/status.hpp"
 
 namespace mpmfrag {
+
+namespace {
+/// The snapshot's core dataset `name` of element type T, or nullptr for a state dataset.
+template <class T>
+std::vector<T>* core_dataset(common::ParticleSnapshot& s, std::string_view name) {
+  if constexpr (std::is_same_v<T, std::uint64_t>) {
+    if (name == "id") return &s.id;
+  } else if constexpr (std::is_same_v<T, std::int32_t>) {
+    if (name == "material") return &s.material;
+  } else if constexpr (std::is_same_v<T, double>) {
+    if (name == "position") return &s.position;
+    if (name == "velocity") return &s.velocity;
+    if (name == "mass") return &s.mass;
+    if (name == "volume") return &s.volume;
+    if (name == "size") return &s.size;
+  }
+  return nullptr;
+}
+}  // namespace
+
+void add_particle_datasets(common::ParticleSnapshot& s, const ParticleSet& ps) {
+  ParticleSet::for_each_array([&](const auto& a) {
+    using T = typename std::decay_t<decltype(a)>::element_type;
+    if (!a.info.dataset) return;
+    const std::vector<T>& src = ps.*a.member;
+    std::vector<T> values = src;
+    if constexpr (std::is_same_v<T, double>)
+      if (a.info.dataset_scale != 1.0)
+        for (double& v : values) v = a.info.dataset_scale * v;
+    if (std::vector<T>* core = core_dataset<T>(s, a.info.dataset)) {
+      *core = std::move(values);
+    } else if constexpr (std::is_same_v<T, double>) {
+      s.fields.push_back({a.info.dataset, a.info.unit, static_cast<std::size_t>(a.info.width), std::move(values),
+                          a.info.description});
+    } else {
+      throw std::logic_error(std::string("particle array '") + a.info.name + "': state datasets must be double");
+    }
+  });
+}
 
 common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
                                        const common::GridInfo& grid, double time, std::int64_t step) {
@@ -16,16 +59,7 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
   s.time = time;
   s.step = step;
   s.grid = grid;
-  s.id = ps.id;
-  s.position = ps.x;
-  s.velocity = ps.v;
-  s.mass = ps.mass;
-  s.volume = ps.volume;
-  s.size.resize(3 * n);
-  for (std::size_t i = 0; i < 3 * n; ++i) s.size[i] = 2.0 * ps.half_width[i];
-  s.material = ps.material;
-  s.fields.push_back({"stress", "Pa", 6, ps.stress, "Cauchy stress, Voigt order xx,yy,zz,yz,xz,xy, tension positive"});
-  s.fields.push_back({"internal_energy", "J/kg", 1, ps.energy, "specific internal energy"});
+  add_particle_datasets(s, ps);  // core datasets, then stress and internal_energy
   // style fields, merged by name across materials
   std::map<std::string, std::size_t> index;
   for (const MaterialSlot& m : mats) {

@@ -77,7 +77,7 @@ static common::ParticleSnapshot sorted_by(const common::ParticleSnapshot& j, Key
 
 // Layout 2: the jittered set in the order mpm-frag writes its snapshots: solver.reorder_every
 // (default 25 steps) sorts particles by 4^3-cell block of their first stencil node, stable in
-// index (mpm/src/solver.cpp, Solver::reorder), so a snapshot after step 0 is block-sorted.
+// index (mpm/src/solver/binning.cpp, Solver::reorder), so a snapshot after step 0 is block-sorted.
 // Layout 3: the jittered set in the hand-off's own cell order (x fastest), the best case for its
 // memory access (a reference for how much the input order costs, not an input users have).
 static const common::ParticleSnapshot& mpmfrag_order() {

@@ -79,10 +79,8 @@ namespace {
 class WithState final : public Material {
  public:
   WithState() : e_(make_linear_elastic(2000.0, 1e9, 1e9)) {}
-  std::string style() const override { return "with_state"; }
   double density() const override { return 2000.0; }
   double reference_wave_speed() const override { return e_->reference_wave_speed(); }
-  double reference_bulk_modulus() const override { return 1e9; }
   BatchResult update(const MaterialBatch& b) const override {
     for (std::size_t k = 0; k < b.n; ++k) b.state[0][k] = 0.25;
     return e_->update(b);

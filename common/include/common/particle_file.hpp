@@ -18,20 +18,13 @@
 #include <vector>
 
 #include "common/field.hpp"
+#include "common/grid.hpp"
 #include "common/provenance.hpp"
 
 namespace common {
 
 inline constexpr const char* kParticleFormat = "mpm-frag.particles";
 inline constexpr std::int64_t kParticleFormatVersion = 1;
-
-/// Uniform background grid: node (i,j,k) sits at origin + (i,j,k) * cell_size,
-/// 0 <= i < shape[0] etc.
-struct GridInfo {
-  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
-  Eigen::Vector3d cell_size = Eigen::Vector3d::Ones();
-  Eigen::Vector3i shape = Eigen::Vector3i::Ones();
-};
 
 struct ParticleSnapshot {
   double time = 0.0;

@@ -50,9 +50,23 @@
 /// `density`). `initialize(batch)` is called once after the particles are created (F = I or the
 /// initial F, L = 0, dt = 0): it sets the initial stress and the wave speeds.
 ///
-/// Registering a style: write `void register_<style>(MaterialRegistry&)` in your own source file
-/// (declared in your own header) and add one line to `register_builtin_materials`
-/// (mpm/src/material_registry.cpp).
+/// ## What a new material takes: one source file and one registry line
+///
+/// 1. One file, e.g. mpm/src/materials/<style>.cpp (every .cpp under mpm/src/ is compiled; no
+///    CMake edit), holding
+///    - a class derived from Material that implements the three pure virtual methods
+///      `density()`, `reference_wave_speed()` and `update(batch)` (and `initialize(batch)` only
+///      if the initial state differs from update() with dt = 0, L = 0), and
+///    - `void register_<style>(MaterialRegistry& reg)`, which calls `reg.add(StyleInfo{...})`
+///      with the key, a one-line description, the style's parameter Schema, its StateField list
+///      (per-particle arrays; written to snapshots when `output`) and the `create` factory.
+/// 2. One line `register_<style>(reg);` in `register_builtin_materials`
+///    (mpm/src/material_registry.cpp), beside the declaration of `register_<style>` (in
+///    mpm/materials/builtin.hpp, or the style's own header for a plug-in such as tonge_ramesh).
+///
+/// Nothing else: snapshots, the outflow record and reordering pick up the state fields from
+/// StateField, the scene schema from StyleInfo::schema (tests/mpm/test_scene_setup.cpp has a
+/// minimal style, `WithState`).
 #pragma once
 #include <Eigen/Core>
 #include <cstddef>
@@ -109,18 +123,21 @@ struct BatchResult {
 class Material {
  public:
   virtual ~Material() = default;
-  /// Style key ("elastic", ...).
-  virtual std::string style() const = 0;
-  /// Reference density rho_0 [kg/m^3].
+  /// Reference density rho_0 [kg/m^3] (particle masses of the scene set-up).
   virtual double density() const = 0;
   /// Dilatational wave speed at the reference state [m/s] (for the first time step).
   virtual double reference_wave_speed() const = 0;
-  /// Bulk modulus at the reference state [Pa] (diagnostics, artificial viscosity defaults).
-  virtual double reference_bulk_modulus() const = 0;
   /// Set the initial stress and wave speeds (dt = 0, L = 0, F = initial F). Default: update().
   virtual void initialize(const MaterialBatch& b) const { update(b); }
   /// Advance the stress (and the style's state) of the batch from t_n to t_{n+1}.
   virtual BatchResult update(const MaterialBatch& b) const = 0;
+
+  // Transitional, NOT part of the contract (a new style does not implement them): nothing calls
+  // these two. They remain declared, no longer pure, only because mpm/src/tonge_ramesh/style.cpp
+  // (owned elsewhere, not edited by the solver split) still marks its versions `override`;
+  // delete both declarations once those two lines are gone from style.cpp.
+  virtual std::string style() const { return {}; }
+  virtual double reference_bulk_modulus() const { return 0.0; }
 };
 
 /// What a style declares: key, parameters, per-particle state, factory.

@@ -11,6 +11,13 @@
 
 namespace mpmfrag {
 
+/// The snapshot datasets of the particle arrays, the one mapping of ParticleSet to the file
+/// contract (ParticleSet::for_each_array, ArrayInfo::dataset): sets the core datasets (id,
+/// position, velocity, mass, volume, size = 2 l_p, material) and appends the state datasets
+/// `stress` and `internal_energy` to s.fields, in table order. Used by make_snapshot and by the
+/// outflow record (Solver::outflow_snapshot).
+void add_particle_datasets(common::ParticleSnapshot& s, const ParticleSet& ps);
+
 /// Snapshot of the given state: core datasets, `stress` (N x 6 Voigt, Pa),
 /// `internal_energy` (J/kg) and every style state field flagged for output (for particles of
 /// materials without that field the field's initial value is written).

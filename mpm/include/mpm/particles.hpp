@@ -14,7 +14,34 @@
 
 namespace mpmfrag {
 
+struct ParticleSet;
+
+/// Description of one per-particle array of ParticleSet (see ParticleSet::for_each_array).
+struct ArrayInfo {
+  const char* name;                  ///< member name
+  const char* unit;                  ///< SI unit ("1" for dimensionless and integer arrays)
+  int width = 1;                     ///< components per particle
+  const char* dataset = nullptr;     ///< snapshot dataset name (particle_file.hpp); nullptr: not written
+  double dataset_scale = 1.0;        ///< the dataset holds dataset_scale * the array (size = 2 l_p)
+  const char* description = "";      ///< HDF5 `description` of a state dataset (not a core dataset)
+  bool optional = false;             ///< empty unless enabled (q: artificial viscosity)
+  bool identity_init = false;        ///< new entries of this 3x3 array start as the identity (F)
+};
+
+/// One ParticleSet array: its description, element type and member pointer (`ps.*member`).
+template <class T>
+struct ParticleArray {
+  using element_type = T;
+  ArrayInfo info;
+  std::vector<T> ParticleSet::*member;
+};
+
 /// Per-particle arrays (item-major: vectors N x 3, matrices N x 9 row-major, stress N x 6 Voigt).
+///
+/// The list of arrays lives in one place, for_each_array(): resize, bytes, the solver's
+/// locality reordering, the outflow copy and compaction and the snapshot datasets
+/// (add_particle_datasets, output.hpp) all walk it. Adding an array = declaring the member
+/// below and adding its line to for_each_array.
 struct ParticleSet {
   std::vector<std::uint64_t> id;      ///< global id (stable across reordering)
   std::vector<std::int32_t> material; ///< material index (scene order)
@@ -29,10 +56,36 @@ struct ParticleSet {
   std::vector<double> half_width;     ///< uGIMP half-widths l_p (N x 3, fixed) [m]
   std::vector<double> q;              ///< artificial bulk viscosity [Pa] (only if enabled)
 
+  /// Call f(ParticleArray<T>) for every array above, in this order (which is also the order of
+  /// the state datasets stress, internal_energy in snapshots).
+  template <class F>
+  static constexpr void for_each_array(F&& f) {
+    using u64 = ParticleArray<std::uint64_t>;
+    using i32 = ParticleArray<std::int32_t>;
+    using f64 = ParticleArray<double>;
+    f(u64{{.name = "id", .unit = "1", .dataset = "id"}, &ParticleSet::id});
+    f(i32{{.name = "material", .unit = "1", .dataset = "material"}, &ParticleSet::material});
+    f(f64{{.name = "x", .unit = "m", .width = 3, .dataset = "position"}, &ParticleSet::x});
+    f(f64{{.name = "v", .unit = "m/s", .width = 3, .dataset = "velocity"}, &ParticleSet::v});
+    f(f64{{.name = "F", .unit = "1", .width = 9, .identity_init = true}, &ParticleSet::F});
+    f(f64{{.name = "stress", .unit = "Pa", .width = 6, .dataset = "stress",
+           .description = "Cauchy stress, Voigt order xx,yy,zz,yz,xz,xy, tension positive"},
+          &ParticleSet::stress});
+    f(f64{{.name = "mass", .unit = "kg", .dataset = "mass"}, &ParticleSet::mass});
+    f(f64{{.name = "volume", .unit = "m^3", .dataset = "volume"}, &ParticleSet::volume});
+    f(f64{{.name = "volume0", .unit = "m^3"}, &ParticleSet::volume0});
+    f(f64{{.name = "energy", .unit = "J/kg", .dataset = "internal_energy", .description = "specific internal energy"},
+          &ParticleSet::energy});
+    f(f64{{.name = "half_width", .unit = "m", .width = 3, .dataset = "size", .dataset_scale = 2.0},
+          &ParticleSet::half_width});
+    f(f64{{.name = "q", .unit = "Pa", .optional = true}, &ParticleSet::q});
+  }
+
   std::size_t size() const { return id.size(); }
-  /// Resize every core array (q only if `with_q`). New F entries are the identity.
+  /// Resize every array to n particles (optional ones only if `with_q`, else they are
+  /// cleared). New entries of identity_init arrays (F) are the identity, others 0.
   void resize(std::size_t n, bool with_q);
-  /// Bytes held by the core arrays (capacity-independent: size * element size).
+  /// Bytes held by the arrays (capacity-independent: size * element size).
   std::size_t bytes() const;
 };
 

@@ -44,7 +44,7 @@
 
 #include "common/branchless.hpp"
 #include "common/choice.hpp"
-#include "common/particle_file.hpp"
+#include "common/grid.hpp"
 
 namespace mpmfrag {
 

@@ -29,6 +29,12 @@
 /// force: material that has left a domain drawn well around the bodies is free ejecta), its
 /// record is kept (outflow_snapshot()) and its mass, momentum, angular momentum and energies stay
 /// in diagnostics(), which therefore still measure conservation of the whole system.
+///
+/// Implementation, one file per stage in mpm/src/solver/: step.cpp (construction, initialize,
+/// stable_dt, the USL/MUSL/USF schedule, save_backup), binning.cpp (bin, reorder, chunks),
+/// transfer.cpp (P2G, G2P, MUSL re-projection), grid.cpp (make_grid, grid velocity and update,
+/// boundary conditions), material_update.cpp (style call, energy, artificial viscosity),
+/// outflow.cpp, diagnostics.cpp, choices.cpp (scene strings); shared kernels in kernels.hpp.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -38,10 +44,15 @@
 #include <string>
 #include <vector>
 
-#include "common/particle_file.hpp"
+#include "common/field.hpp"
+#include "common/grid.hpp"
 #include "common/status.hpp"
 #include "mpm/particles.hpp"
 #include "mpm/shape_functions.hpp"
+
+namespace common {
+struct ParticleSnapshot;  // common/particle_file.hpp (include it to call Solver::outflow_snapshot)
+}
 
 namespace mpmfrag {
 
@@ -49,6 +60,10 @@ namespace mpmfrag {
 enum class Scheme { usl, usf, musl };
 /// Grid face condition.
 enum class BoundaryType { free, fixed, symmetry };
+
+/// Which of a grid node's two velocity slots a stage reads or constrains (Solver::Node):
+/// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i.
+enum class GridSlot { velocity, updated_velocity };
 
 Scheme parse_scheme(const std::string& s);
 const char* scheme_name(Scheme s);
@@ -154,21 +169,47 @@ class Solver {
   common::ParticleSnapshot outflow_snapshot() const;
   std::size_t outflow_count() const { return out_.size(); }
 
-  /// Node record (one cache line): m, momentum/velocity (3), force/updated velocity (3).
+  /// Node record (one cache line, 64 bytes: grid_bytes() = 64 per node). Each of the two
+  /// 3-vectors holds two quantities in turn during a step; stages use the accessor named for
+  /// the quantity of their phase (the storage is shared so that the node stays one cache line):
+  ///
+  ///   phase (Solver::step)           momentum_or_velocity       force_or_updated_velocity
+  ///   P2G scatter                    momentum()  (m v)_i        force()  f_i
+  ///   grid_velocity()                velocity()  v_i = (mv)_i/m_i
+  ///   grid_integrate()                                          updated_velocity()  v*_i
+  ///   MUSL musl_remap()              momentum()  re-projected (m v)_i from the new v_p
+  ///   MUSL grid_velocity()           velocity()  v**_i
+  ///
+  /// slot(GridSlot) picks a velocity slot by name for the boundary conditions and G2P.
   struct alignas(64) Node {
-    double m;
-    double p[3];
-    double f[3];
-    double pad;
+    double m;                             ///< nodal mass m_i [kg]
+    double momentum_or_velocity[3];       ///< (m v)_i [kg m/s], then v_i [m/s]
+    double force_or_updated_velocity[3];  ///< f_i [N], then v*_i [m/s]
+    double pad;                           ///< to 64 bytes
+
+    double* momentum() { return momentum_or_velocity; }
+    double* velocity() { return momentum_or_velocity; }
+    const double* velocity() const { return momentum_or_velocity; }
+    double* force() { return force_or_updated_velocity; }
+    double* updated_velocity() { return force_or_updated_velocity; }
+    const double* updated_velocity() const { return force_or_updated_velocity; }
+    /// The velocity slot `s` (v_i or v*_i) as a member pointer.
+    using Slot3 = double (Node::*)[3];
+    static constexpr Slot3 slot(GridSlot s) {
+      return s == GridSlot::velocity ? &Node::momentum_or_velocity : &Node::force_or_updated_velocity;
+    }
   };
+  static_assert(sizeof(Node) == 64, "Node must stay one cache line");
 
  private:
   template <int NPA> void bin();
   template <int NPA, int MODE> void scatter();
   void grid_velocity();
   void grid_integrate(double dt);
-  void apply_bc(int slot);
-  template <int NPA, int flags, int lslot> void g2p(double dt);
+  /// Boundary conditions (fixed / symmetry faces, SolverConfig::boundary) on velocity slot `s`.
+  void apply_bc(GridSlot s);
+  /// G2P; `flags` (detail::G2P) selects what is updated, `Lfrom` the grid velocity of L.
+  template <int NPA, int flags, GridSlot Lfrom> void g2p(double dt);
   template <int NPA> void musl_remap();
   void reorder();
   void build_chunks();

@@ -32,7 +32,6 @@ class ElasticBase : public Material {
   ElasticBase(double rho, double K, double G) : rho0_(rho), K_(K), G_(G) {}
   double density() const override { return rho0_; }
   double reference_wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
-  double reference_bulk_modulus() const override { return K_; }
 
  protected:
   double rho0_, K_, G_;
@@ -41,7 +40,6 @@ class ElasticBase : public Material {
 class LinearElastic final : public ElasticBase {
  public:
   using ElasticBase::ElasticBase;
-  std::string style() const override { return "elastic"; }
   BatchResult update(const MaterialBatch& b) const override {
     BatchResult r;
     const double lam = K_ - 2.0 * G_ / 3.0, cd2 = K_ + 4.0 * G_ / 3.0;
@@ -75,7 +73,6 @@ class LinearElastic final : public ElasticBase {
 class NeoHookean final : public ElasticBase {
  public:
   using ElasticBase::ElasticBase;
-  std::string style() const override { return "neo_hookean"; }
   BatchResult update(const MaterialBatch& b) const override {
     BatchResult r;
     const double lam = K_ - 2.0 * G_ / 3.0, cd2 = K_ + 4.0 * G_ / 3.0;

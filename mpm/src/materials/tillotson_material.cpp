@@ -26,12 +26,10 @@ namespace {
 class Tillotson final : public Material {
  public:
   Tillotson(const TillotsonParams& p, double G) : p_(p), G_(G) {}
-  std::string style() const override { return "tillotson"; }
   double density() const override { return p_.rho0; }
   double reference_wave_speed() const override {
     return std::sqrt((tillotson_eos(p_, p_.rho0, 0.0).c2 + 4.0 * G_ / (3.0 * p_.rho0)));
   }
-  double reference_bulk_modulus() const override { return p_.A; }
 
   BatchResult update(const MaterialBatch& b) const override {
     BatchResult r;

@@ -1,5 +1,6 @@
 /// @file outflow.cpp
-/// Particles that leave the grid (SolverConfig::outflow_remove; see solver.hpp).
+/// Particles that leave the grid (SolverConfig::outflow_remove; see solver.hpp): removal,
+/// compaction and the outflow record.
 ///
 /// A particle whose interpolation stencil would reach past the ghost layers is taken out of the
 /// MPM computation at the start of a step, before any update of that step: its core arrays, its
@@ -10,12 +11,12 @@
 /// momentum about the origin m x(t) x v (d/dt = m v x v = 0), its kinetic and internal energy are
 /// constant, and diagnostics() adds them to the grid particles' totals, which therefore remain
 /// the conserved totals of the whole system.
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <sstream>
 
-#include "mpm/solver.hpp"
+#include "common/particle_file.hpp"
+#include "kernels.hpp"
+#include "mpm/output.hpp"
 
 namespace mpmfrag {
 
@@ -48,21 +49,12 @@ void Solver::remove_particles(const std::vector<char>& out) {
   std::size_t k = n0;
   for (std::size_t p = 0; p < n; ++p) {
     if (!out[p]) continue;
-    auto copy = [&](auto& dst, const auto& src, std::size_t stride) {
-      std::copy_n(src.begin() + stride * p, stride, dst.begin() + stride * k);
-    };
-    copy(out_.id, ps_.id, 1);
-    copy(out_.material, ps_.material, 1);
-    copy(out_.x, ps_.x, 3);
-    copy(out_.v, ps_.v, 3);
-    copy(out_.F, ps_.F, 9);
-    copy(out_.stress, ps_.stress, 6);
-    copy(out_.mass, ps_.mass, 1);
-    copy(out_.volume, ps_.volume, 1);
-    copy(out_.volume0, ps_.volume0, 1);
-    copy(out_.energy, ps_.energy, 1);
-    copy(out_.half_width, ps_.half_width, 3);
-    if (with_q) copy(out_.q, ps_.q, 1);
+    ParticleSet::for_each_array([&](const auto& a) {
+      const auto& src = ps_.*a.member;
+      if (src.empty()) return;  // optional array not in use (q)
+      const std::size_t w = static_cast<std::size_t>(a.info.width);
+      std::copy_n(src.begin() + w * p, w, (out_.*a.member).begin() + w * k);
+    });
     // state fields: value of the particle's material, the field's initial value otherwise
     const MaterialSlot& s = mats_[ps_.material[p]];
     for (std::size_t f = 0; f < s.state.size(); ++f) {
@@ -71,14 +63,7 @@ void Solver::remove_particles(const std::vector<char>& out) {
       const std::size_t i = field_index(sf);
       std::copy_n(s.state[f].begin() + (p - s.begin) * sf.ncomp, sf.ncomp, out_fields_[i].values.begin() + k * sf.ncomp);
     }
-    const double m = ps_.mass[p];
-    const Eigen::Vector3d x(ps_.x[3 * p], ps_.x[3 * p + 1], ps_.x[3 * p + 2]);
-    const Eigen::Vector3d v(ps_.v[3 * p], ps_.v[3 * p + 1], ps_.v[3 * p + 2]);
-    out_diag_.mass += m;
-    out_diag_.momentum += m * v;
-    out_diag_.angular_momentum += m * x.cross(v);
-    out_diag_.kinetic += 0.5 * m * v.squaredNorm();
-    out_diag_.internal += m * ps_.energy[p];
+    detail::add_particle_totals(out_diag_, ps_, p);
     ++k;
   }
   // 2. Compact the particle arrays and the material state (order preserved).
@@ -114,45 +99,28 @@ void Solver::remove_particles(const std::vector<char>& out) {
     s.end = start + len;
     start += len;
   }
-  compact(ps_.id, 1);
-  compact(ps_.material, 1);
-  compact(ps_.x, 3);
-  compact(ps_.v, 3);
-  compact(ps_.F, 9);
-  compact(ps_.stress, 6);
-  compact(ps_.mass, 1);
-  compact(ps_.volume, 1);
-  compact(ps_.volume0, 1);
-  compact(ps_.energy, 1);
-  compact(ps_.half_width, 3);
-  compact(ps_.q, 1);
+  ParticleSet::for_each_array([&](const auto& a) { compact(ps_.*a.member, static_cast<std::size_t>(a.info.width)); });
   body_accel_.clear();
   key_.resize(ps_.size());
   order_.resize(ps_.size());
   build_chunks();
 }
 
+// The record's datasets are those of a snapshot (add_particle_datasets, the shared mapping),
+// except: positions moved ballistically to the current time, `removal_time` first among the
+// state datasets, and the stress described as the stress at removal.
 common::ParticleSnapshot Solver::outflow_snapshot() const {
   common::ParticleSnapshot s;
   const std::size_t n = out_.size();
   s.time = time_;
   s.step = step_;
   s.grid = grid_;
-  s.id = out_.id;
-  s.velocity = out_.v;
-  s.mass = out_.mass;
-  s.volume = out_.volume;
-  s.material = out_.material;
-  s.position.resize(3 * n);
-  s.size.resize(3 * n);
+  add_particle_datasets(s, out_);
   for (std::size_t p = 0; p < n; ++p)
-    for (int d = 0; d < 3; ++d) {
-      s.position[3 * p + d] = out_.x[3 * p + d] + out_.v[3 * p + d] * (time_ - out_time_[p]);
-      s.size[3 * p + d] = 2.0 * out_.half_width[3 * p + d];
-    }
-  s.fields.push_back({"removal_time", "s", 1, out_time_, "time at which the particle left the grid"});
-  s.fields.push_back({"stress", "Pa", 6, out_.stress, "Cauchy stress at removal, Voigt xx,yy,zz,yz,xz,xy"});
-  s.fields.push_back({"internal_energy", "J/kg", 1, out_.energy, "specific internal energy"});
+    for (int d = 0; d < 3; ++d) s.position[3 * p + d] = out_.x[3 * p + d] + out_.v[3 * p + d] * (time_ - out_time_[p]);
+  for (common::Field& f : s.fields)
+    if (f.name == "stress") f.description = "Cauchy stress at removal, Voigt xx,yy,zz,yz,xz,xy";
+  s.fields.insert(s.fields.begin(), common::Field{"removal_time", "s", 1, out_time_, "time at which the particle left the grid"});
   for (const common::Field& f : out_fields_) s.fields.push_back(f);
   return s;
 }

@@ -1,0 +1,108 @@
+/// @file material_update.cpp
+/// The material update of one chunk of particles (after G2P has set L, F and the volume): the
+/// material style's stress update (material.hpp contract), then the solver's own energy and
+/// artificial viscosity (mpm.md §1.5, Uintah) and the chunk's largest signal speed:
+///
+///   e_{n+1} = e_n + dt/(2 rho_{n+1}) (sigma_n : L + sigma_{n+1} : L)  +  q |tr D| dt / rho_{n+1}
+///   q = rho (A1 c_bulk |tr D| h + A2 (tr D h)^2) if tr D < 0 else 0
+///   max_p (c_dil,p + |v_p|) for dt = C min(h) / max_p (c_dil,p + |v_p|)
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "kernels.hpp"
+
+namespace mpmfrag {
+
+using namespace detail;
+
+void Solver::run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs) {
+  const Chunk ch = chunks_[c];
+  const MaterialSlot& slot = mats_[ch.mat];
+  const std::size_t n = ch.end - ch.begin;
+  double* stress = ps_.stress.data() + 6 * ch.begin;
+  // stress power before the update (trapezoidal energy integration)
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* s = stress + 6 * k;
+    const double* l = L + 9 * k;
+    wpre[k] = stress_power(s, l);
+  }
+  double* sptr[16];
+  std::vector<double*> sbig;
+  double** sp = sptr;
+  if (slot.state.size() > 16) {
+    sbig.resize(slot.state.size());
+    sp = sbig.data();
+  }
+  for (std::size_t f = 0; f < slot.state.size(); ++f)
+    sp[f] = const_cast<double*>(slot.state[f].data()) + static_cast<std::size_t>(slot.style->state_fields[f].ncomp) * (ch.begin - slot.begin);
+  MaterialBatch b;
+  b.n = n;
+  b.first = ch.begin;
+  b.dt = dt;
+  b.time = time_;
+  b.cell_size = h_min_;
+  b.seed = cfg_.seed;
+  b.L = L;
+  b.F = ps_.F.data() + 9 * ch.begin;
+  b.stress = stress;
+  b.mass = ps_.mass.data() + ch.begin;
+  b.volume = ps_.volume.data() + ch.begin;
+  b.volume0 = ps_.volume0.data() + ch.begin;
+  b.energy = ps_.energy.data() + ch.begin;
+  b.id = ps_.id.data() + ch.begin;
+  b.state = sp;
+  b.wave_speed = ws;
+  b.bulk_speed = cfg_.artificial_viscosity ? bs : nullptr;
+  const BatchResult r = dt > 0.0 ? slot.model->update(b) : (slot.model->initialize(b), BatchResult{});
+  std::size_t fails = r.failed;
+  std::string msg;
+  if (r.failed) {
+    const std::size_t p = ch.begin + r.first_failed;
+    std::ostringstream os;
+    os << "material '" << slot.name << "' (" << slot.style->name << ") failed at particle id " << ps_.id[p] << ": "
+       << r.reason;
+    msg = os.str();
+  }
+  double vmax = 0.0;
+  double* e = ps_.energy.data() + ch.begin;
+  double* q = cfg_.artificial_viscosity ? ps_.q.data() + ch.begin : nullptr;
+  const double* v = ps_.v.data() + 3 * ch.begin;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double* s = stress + 6 * k;
+    const double* l = L + 9 * k;
+    const double rho = b.mass[k] / b.volume[k];
+    const double trD = l[0] + l[4] + l[8];
+    if (dt > 0.0) {
+      const double wpost = stress_power(s, l);
+      e[k] += 0.5 * dt * (wpre[k] + wpost) / rho;
+    }
+    if (q) {
+      double qq = 0.0;
+      if (trD < 0.0) {
+        const double hh = h_min_;
+        qq = rho * (cfg_.av_a1 * bs[k] * (-trD) * hh + cfg_.av_a2 * trD * trD * hh * hh);
+      }
+      q[k] = qq;
+      if (dt > 0.0) e[k] += qq * (-trD) * dt / rho;
+    }
+    const double sp2 = ws[k] + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
+    const bool finite = std::isfinite(s[0] + s[1] + s[2] + s[3] + s[4] + s[5] + e[k] + sp2);
+    if (!finite) {
+      if (!fails++) {
+        std::ostringstream os;
+        os << "non-finite stress/energy/wave speed at particle id " << ps_.id[ch.begin + k] << " (material '" << slot.name << "')";
+        msg = os.str();
+      }
+      continue;
+    }
+    vmax = std::max(vmax, sp2);
+  }
+  chunk_speed_[c] = vmax;
+  if (fails) {
+    chunk_fail_[c] += fails;
+    if (chunk_msg_[c].empty()) chunk_msg_[c] = msg;
+  }
+}
+
+}  // namespace mpmfrag

@@ -1,0 +1,147 @@
+/// @file step.cpp
+/// The solver's life cycle and the explicit step schedule (see solver.hpp for the equations and
+/// references: Uintah explicit step, shared/reference/mpm.md §1.2–1.6; Sulsky, Chen & Schreyer
+/// 1994; Sulsky, Zhou & Schreyer 1995 for MUSL; Bardenhagen & Kober 2004 for GIMP):
+/// construction and input checks, initialize (initial stress and wave speeds), the CFL step
+/// dt = C min(h) / max_p (c_dil,p + |v_p|) capped by dt_max, step() and save_backup().
+///
+///   USL:  P2G (m, mv, f) -> v -> BC(v) -> v* -> BC(v*) -> G2P (v_p, x_p, L from v*)
+///   MUSL: P2G (m, mv, f) -> v -> BC(v) -> v* -> BC(v*) -> FLIP v_p + re-projection (mv)
+///         -> v** -> BC(v**) -> G2P (x_p from v*, L from v**)
+///   USF:  P2G (m, mv) -> v -> BC(v) -> G2P (L from v, stress update) -> P2G (f) -> v*
+///         -> BC(v*) -> G2P (v_p, x_p)
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+#include <type_traits>
+
+#include "kernels.hpp"
+
+namespace mpmfrag {
+
+using namespace detail;
+
+Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
+               std::vector<MaterialSlot> materials)
+    : cfg_(std::move(cfg)), grid_(grid), ps_(std::move(particles)), mats_(std::move(materials)) {
+  const std::size_t n = ps_.size();
+  if (n == 0) throw common::InputError("no particles in the scene");
+  if (n >= std::numeric_limits<std::uint32_t>::max()) throw common::InputError("too many particles (> 2^32)");
+  if (cfg_.artificial_viscosity && ps_.q.size() != n) ps_.q.assign(n, 0.0);
+  if (!cfg_.artificial_viscosity) ps_.q.clear();
+  for (std::size_t m = 0; m < mats_.size(); ++m) {
+    MaterialSlot& s = mats_[m];
+    if (!s.model || !s.style) throw common::InputError("material '" + s.name + "' has no model");
+    for (std::size_t p = s.begin; p < s.end; ++p)
+      if (ps_.material[p] != static_cast<std::int32_t>(m))
+        throw common::InputError("particles of material '" + s.name + "' are not contiguous");
+    if (s.state.size() != s.style->state_fields.size()) s.allocate_state();
+  }
+  build_chunks();
+  h_min_ = grid_.cell_size.minCoeff();
+  for (int d = 0; d < 3; ++d)
+    for (std::size_t p = 0; p < n; ++p)
+      if (cfg_.shape == ShapeKind::ugimp && !(ps_.half_width[3 * p + d] > 0.0 && ps_.half_width[3 * p + d] <= 0.5 * grid_.cell_size[d] * (1 + 1e-12)))
+        throw common::InputError("particle half-width must be in (0, h/2] (at least 1 particle per cell per axis)");
+  m_min_ = cfg_.min_mass_fraction * *std::min_element(ps_.mass.begin(), ps_.mass.end());
+  nodes_.assign(node_count(grid_), Node{});
+  for (int d = 0; d < 3; ++d) nblocks_[d] = (grid_.shape[d] + kBlock - 1) / kBlock;
+}
+
+void Solver::initialize() {
+  const std::size_t nch = chunks_.size();
+  std::fill(chunk_fail_.begin(), chunk_fail_.end(), 0);
+  std::vector<double> L(9 * kChunk, 0.0), wpre(kChunk), ws(kChunk), bs(kChunk);
+  for (std::size_t p = 0; p < ps_.size(); ++p) ps_.volume[p] = ps_.volume0[p] * det3(ps_.F.data() + 9 * p);
+  for (std::size_t c = 0; c < nch; ++c) run_material_chunk(c, 0.0, L.data(), wpre.data(), ws.data(), bs.data());
+  for (std::size_t c = 0; c < nch; ++c)
+    if (chunk_fail_[c]) throw SolverFailure("initial state invalid: " + chunk_msg_[c], true);
+  max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
+}
+
+double Solver::stable_dt() const {
+  const double dt = cfg_.courant * h_min_ / std::max(max_speed_, 1e-300);
+  dt_capped_ = dt > cfg_.dt_max;
+  return std::min(dt, cfg_.dt_max);
+}
+
+void Solver::step(double dt) {
+  if (!(dt > 0.0) || !std::isfinite(dt)) throw SolverFailure("invalid time step " + std::to_string(dt), true);
+  const bool lin = cfg_.shape == ShapeKind::linear;
+  if (cfg_.reorder_every > 0 && step_ % cfg_.reorder_every == 0) {
+    lin ? bin<2>() : bin<3>();
+    reorder();
+  }
+  lin ? bin<2>() : bin<3>();
+  if (body_force_) {
+    body_accel_.resize(3 * ps_.size());
+    const std::size_t n = ps_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t b = 0; b < n; b += kReduceChunk)
+      body_force_(b, std::min(n, b + kReduceChunk), time_, ps_, body_accel_.data() + 3 * b);
+  }
+  {
+    Node* nd = nodes_.data();
+    const std::size_t nn = nodes_.size();
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < nn; ++i) nd[i] = Node{};
+  }
+  using std::integral_constant;
+  auto scat = [&](auto mode) {
+    constexpr int M = decltype(mode)::value;
+    lin ? scatter<2, M>() : scatter<3, M>();
+  };
+  auto gather = [&](auto fl, auto from) {
+    constexpr int FL = decltype(fl)::value;
+    constexpr GridSlot FROM = decltype(from)::value;
+    lin ? g2p<2, FL, FROM>(dt) : g2p<3, FL, FROM>(dt);
+  };
+  using Velocity = integral_constant<GridSlot, GridSlot::velocity>;
+  using Updated = integral_constant<GridSlot, GridSlot::updated_velocity>;
+  switch (cfg_.scheme) {
+    case Scheme::usl:
+      scat(integral_constant<int, kMass | kMom | kForce>{});
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      grid_integrate(dt);
+      apply_bc(GridSlot::updated_velocity);
+      gather(integral_constant<int, kVel | kPos | kGrad>{}, Updated{});
+      break;
+    case Scheme::musl: {
+      scat(integral_constant<int, kMass | kMom | kForce>{});
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      grid_integrate(dt);
+      apply_bc(GridSlot::updated_velocity);
+      // fused: FLIP/PIC velocity update and re-projection of the new particle momenta
+      lin ? musl_remap<2>() : musl_remap<3>();
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      gather(integral_constant<int, kPos | kGrad>{}, Velocity{});
+      break;
+    }
+    case Scheme::usf:
+      scat(integral_constant<int, kMass | kMom>{});
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      gather(integral_constant<int, kGrad>{}, Velocity{});
+      scat(integral_constant<int, kForce>{});
+      grid_integrate(dt);
+      apply_bc(GridSlot::updated_velocity);
+      gather(integral_constant<int, kVel | kPos>{}, Updated{});
+      break;
+  }
+  time_ += dt;
+  ++step_;
+}
+
+void Solver::save_backup() {
+  backup_.particles = ps_;
+  backup_.materials = mats_;
+  backup_.time = time_;
+  backup_.step = step_;
+  backup_.valid = true;
+}
+
+}  // namespace mpmfrag
