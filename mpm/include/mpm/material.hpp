@@ -131,13 +131,6 @@ class Material {
   virtual void initialize(const MaterialBatch& b) const { update(b); }
   /// Advance the stress (and the style's state) of the batch from t_n to t_{n+1}.
   virtual BatchResult update(const MaterialBatch& b) const = 0;
-
-  // Transitional, NOT part of the contract (a new style does not implement them): nothing calls
-  // these two. They remain declared, no longer pure, only because mpm/src/tonge_ramesh/style.cpp
-  // (owned elsewhere, not edited by the solver split) still marks its versions `override`;
-  // delete both declarations once those two lines are gone from style.cpp.
-  virtual std::string style() const { return {}; }
-  virtual double reference_bulk_modulus() const { return 0.0; }
 };
 
 /// What a style declares: key, parameters, per-particle state, factory.

@@ -29,10 +29,8 @@ class TongeRamesh final : public Material {
     if (p_.total_bins() > kTongeRameshBinSlots)
       throw common::InputError("", "tonge_ramesh bins", "more than 50 flaw bins in total");
   }
-  std::string style() const override { return "tonge_ramesh"; }
   double density() const override { return p_.density; }
   double reference_wave_speed() const override { return tr::wave_speed(p_, 1.0, 1.0, 0.0); }
-  double reference_bulk_modulus() const override { return p_.eos.A; }
 
   void initialize(const MaterialBatch& b) const override {
     const int nb = p_.total_bins();
