@@ -44,7 +44,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   spdlog::info("memory: {:.1f} bytes/particle (particles + material state), grid {:.1f} MB",
                sum.bytes_per_particle, solver.grid_bytes() / 1e6);
   spdlog::info("solver: {} / {} / FLIP {:.3g} / Courant {:.3g} / artificial viscosity {}",
-               shape_kind_name(st.solver.shape), scheme_name(st.solver.scheme), st.solver.flip,
+               shape_kind_name(st.solver.shape), common::choice_name(kSchemes, st.solver.scheme), st.solver.flip,
                st.solver.courant, st.solver.artificial_viscosity ? "on" : "off");
   for (const MaterialSlot& m : solver.materials())
     spdlog::info("material '{}' ({}): {} particles, c_ref = {:.1f} m/s, {} state field(s)", m.name, m.style->name,

@@ -112,7 +112,7 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
                "and stays in the conserved totals)");
 
   s.add_choice("solver.shape", ShapeKind::ugimp, kShapeKinds, "interpolation: uGIMP (default) or classic linear MPM");
-  s.add_choice("solver.scheme", std::string("musl"), {"usl", "usf", "musl"}, "stress-update order");
+  s.add_choice("solver.scheme", Scheme::musl, kSchemes, "stress-update order");
   s.add_real("solver.flip", 1.0, "1", 0.0, 1.0, "FLIP fraction of the particle velocity update (1 = FLIP, 0 = PIC)");
   s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(c + |v|)", true);
   s.add_real("solver.min_mass_fraction", 0.0, "1", 0.0, 1.0,
@@ -123,7 +123,7 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_real("solver.artificial_viscosity.a2", 2.0, "1", 0.0, 10.0, "quadratic coefficient A2");
   s.add_int("solver.reorder_every", 25, 0, 1000000, "steps between particle re-sorting for locality (0 = never)");
   for (const char* f : {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"})
-    s.add_choice(std::string("boundary.") + f, std::string("free"), {"free", "fixed", "symmetry"},
+    s.add_choice(std::string("boundary.") + f, BoundaryType::free, kBoundaryTypes,
                  std::string("condition on the domain face ") + f);
 
   s.add_vec3("gravity.uniform", Eigen::Vector3d::Zero(), "m/s^2", -kBig, kBig,
@@ -168,7 +168,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   Setup st;
   SolverConfig& c = st.solver;
   c.shape = sc.choice("solver.shape", kShapeKinds);
-  c.scheme = parse_scheme(sc.string("solver.scheme"));
+  c.scheme = sc.choice("solver.scheme", kSchemes);
   c.flip = sc.real("solver.flip");
   c.courant = sc.real("solver.courant");
   c.min_mass_fraction = sc.real("solver.min_mass_fraction");
@@ -182,7 +182,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   c.outflow_remove = sc.choice("grid.outflow", kOutflows) == Outflow::remove;
   c.seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
   const char* faces[6] = {"x_min", "x_max", "y_min", "y_max", "z_min", "z_max"};
-  for (int f = 0; f < 6; ++f) c.boundary[f] = parse_boundary(sc.string(std::string("boundary.") + faces[f]));
+  for (int f = 0; f < 6; ++f) c.boundary[f] = sc.choice(std::string("boundary.") + faces[f], kBoundaryTypes);
 
   RunConfig& r = st.run;
   r.t_end = sc.real("time.end");

@@ -34,7 +34,8 @@
 /// stable_dt, the USL/MUSL/USF schedule, save_backup), binning.cpp (bin, reorder, chunks),
 /// transfer.cpp (P2G, G2P, MUSL re-projection), grid.cpp (make_grid, grid velocity and update,
 /// boundary conditions), material_update.cpp (style call, energy, artificial viscosity),
-/// outflow.cpp, diagnostics.cpp, choices.cpp (scene strings); shared kernels in kernels.hpp.
+/// outflow.cpp, diagnostics.cpp; shared kernels in kernels.hpp. Scene names of the choices are the
+/// tables kSchemes and kBoundaryTypes below.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -44,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "common/choice.hpp"
 #include "common/field.hpp"
 #include "common/grid.hpp"
 #include "common/status.hpp"
@@ -58,18 +60,22 @@ namespace mpmfrag {
 
 /// Stress-update order.
 enum class Scheme { usl, usf, musl };
+/// Scene names of the schemes (`solver.scheme`): the one table the schema and the log use.
+inline constexpr std::array kSchemes{common::Choice{"usl", Scheme::usl}, common::Choice{"usf", Scheme::usf},
+                                     common::Choice{"musl", Scheme::musl}};
 /// Grid face condition.
 enum class BoundaryType { free, fixed, symmetry };
+/// Scene names of the face conditions (`boundary.<face>`).
+inline constexpr std::array kBoundaryTypes{common::Choice{"free", BoundaryType::free},
+                                           common::Choice{"fixed", BoundaryType::fixed},
+                                           common::Choice{"symmetry", BoundaryType::symmetry}};
 
 /// Which of a grid node's two velocity slots a stage reads or constrains (Solver::Node):
 /// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i.
 enum class GridSlot { velocity, updated_velocity };
 
-Scheme parse_scheme(const std::string& s);
-const char* scheme_name(Scheme s);
-BoundaryType parse_boundary(const std::string& s);
 
-/// Solver options (scene keys under [solver], [boundary], [time]).
+/// Solver options (scene keys under [solver], [boundary], [time], [grid] and gravity.uniform).
 struct SolverConfig {
   ShapeKind shape = ShapeKind::ugimp;
   Scheme scheme = Scheme::musl;
