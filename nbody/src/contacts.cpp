@@ -15,14 +15,10 @@ namespace {
 constexpr std::size_t kOmpMin = 2048;
 constexpr int kCellBits = 21;
 constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
 inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
   return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
          (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
-}
-inline std::int64_t clampc(double v) {
-  if (!(v > 0.0)) return 0;
-  if (v >= static_cast<double>(kCellMax)) return kCellMax;
-  return static_cast<std::int64_t>(v);
 }
 struct Worst {
   double frac = 0.0;
@@ -56,17 +52,178 @@ ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, d
 
 bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
   const std::size_t n = sp.size();
-  bool need = force || xref_.size() != n || import_;
-  if (!need) {
-    const double lim2 = 0.25 * skin_ * skin_;
-    bool far = false;
-#pragma omp parallel for schedule(static) reduction(|| : far) if (n >= kOmpMin)
-    for (std::size_t i = 0; i < n; ++i)
-      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) far = true;
-    need = far;
+  if (force || xref_.size() != n || import_) {
+    build_pairs(sp);
+    return true;
   }
-  if (need) build_pairs(sp);
-  return need;
+  return local_update(sp);
+}
+
+std::uint64_t ContactSystem::cell_of(const Vec3& x) const {
+  // floor(x / c) offset by 2^20 and clamped to 21 bits per axis (monotone, so spheres within one
+  // cell edge of each other still land in the same or adjacent cells; NaN goes to cell 0).
+  auto q = [&](double v) -> std::int64_t {
+    const double f = std::floor(v / cell_) + static_cast<double>(std::int64_t{1} << 20);
+    if (!(f > 0.0)) return 0;
+    if (f >= static_cast<double>(kCellMax)) return kCellMax;
+    return static_cast<std::int64_t>(f);
+  };
+  return cell_key(q(x.x()), q(x.y()), q(x.z()));
+}
+
+void ContactSystem::link(std::uint32_t i) {
+  const std::uint64_t k = cell_of(xref_[i]);
+  ckey_[i] = k;
+  auto it = head_.try_emplace(k, kNone).first;
+  next_[i] = it->second;
+  prev_[i] = kNone;
+  if (it->second != kNone) prev_[it->second] = i;
+  it->second = i;
+}
+
+void ContactSystem::unlink(std::uint32_t i) {
+  if (prev_[i] != kNone) {
+    next_[prev_[i]] = next_[i];
+  } else {
+    auto it = head_.find(ckey_[i]);
+    if (next_[i] == kNone)
+      head_.erase(it);
+    else
+      it->second = next_[i];
+  }
+  if (next_[i] != kNone) prev_[next_[i]] = prev_[i];
+  next_[i] = prev_[i] = kNone;
+}
+
+template <class F>
+void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const {
+  const std::uint64_t k = ckey_[i];
+  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
+  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
+  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
+  const Vec3 xi = xref_[i];
+  const double si = sp.s[i];
+  for (std::int64_t dx = -1; dx <= 1; ++dx)
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+        auto it = head_.find(cell_key(X, Y, Z));
+        if (it == head_.end()) continue;
+        for (std::uint32_t j = it->second; j != kNone; j = next_[j]) {
+          if (j == i) continue;
+          // same operand order as the test for (min, max): the set is symmetric bit for bit
+          const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
+          if ((xref_[j] - xi).squaredNorm() < reach * reach) f(j);
+        }
+      }
+}
+
+bool ContactSystem::listed(std::size_t a, std::size_t b) const {
+  if (a > b) std::swap(a, b);
+  if (a + 1 >= irow_.size()) return false;
+  auto first = pj_.begin() + irow_[a], last = pj_.begin() + irow_[a + 1];
+  return std::binary_search(first, last, static_cast<std::uint32_t>(b));
+}
+
+bool ContactSystem::local_update(const Spheres& sp) {
+  const std::size_t n = sp.size();
+  const double lim2 = 0.25 * skin_ * skin_;
+  moved_.clear();
+  if (n >= kOmpMin) {
+    mark_.resize(n);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      mark_[i] = (sp.x[i] - xref_[i]).squaredNorm() > lim2 ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (mark_[i]) moved_.push_back(static_cast<std::uint32_t>(i));
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) moved_.push_back(static_cast<std::uint32_t>(i));
+  }
+  if (moved_.empty()) return false;
+  if (moved_.size() > std::max<std::size_t>(n / 4, 32)) {  // cheaper from scratch
+    build_pairs(sp);
+    return true;
+  }
+  reinserts_ += moved_.size();
+  mark_.assign(n, 0);
+  for (std::uint32_t i : moved_) {
+    mark_[i] = 1;
+    unlink(i);
+    xref_[i] = sp.x[i];
+    link(i);
+  }
+  auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
+  std::vector<std::uint64_t> nk;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
+  for (std::uint32_t i : moved_) {
+    for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
+    for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+    for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
+      const std::uint32_t p = jpair_[q];
+      ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+    }
+  }
+  std::sort(nk.begin(), nk.end());
+  nk.erase(std::unique(nk.begin(), nk.end()), nk.end());
+  std::sort(ok.begin(), ok.end());
+  ok.erase(std::unique(ok.begin(), ok.end()), ok.end());
+  // No new pair: nothing to change but the reference positions (pairs that left the reach stay
+  // listed until a merge or rebuild drops them; a listed pair out of contact contributes nothing).
+  // Such pairs are flagged and counted; once they are an eighth of the list, everything is
+  // rebuilt so that the list does not keep growing on an expanding cloud.
+  {
+    bool all_listed = true;
+    std::size_t q = 0;
+    for (std::uint64_t k : nk) {
+      while (q < ok.size() && ok[q].first < k) ++q;
+      if (q == ok.size() || ok[q].first != k) {
+        all_listed = false;
+        break;
+      }
+    }
+    if (all_listed) {
+      for (const auto& [k, p] : ok)
+        if (!std::binary_search(nk.begin(), nk.end(), k) && !stale_flag_[p]) {
+          stale_flag_[p] = 1;
+          ++stale_;
+        }
+      if (8 * stale_ <= std::max<std::size_t>(pi_.size(), 64)) return false;
+      build_pairs(sp);
+      return true;
+    }
+  }
+  // Merge: old pairs with no member in M, plus the recomputed pairs of M, sorted by (i, j).
+  const std::size_t P = pi_.size();
+  std::vector<std::uint32_t> npi, npj;
+  std::vector<std::uint8_t> nflag;  // stale flags carried for the pairs kept
+  npi.reserve(P - ok.size() + nk.size());
+  npj.reserve(P - ok.size() + nk.size());
+  nflag.reserve(P - ok.size() + nk.size());
+  std::size_t q = 0, nstale = 0;
+  auto emit_new_below = [&](std::uint64_t k) {
+    while (q < nk.size() && nk[q] < k) {
+      npi.push_back(static_cast<std::uint32_t>(nk[q] >> 32));
+      npj.push_back(static_cast<std::uint32_t>(nk[q] & 0xFFFFFFFFu));
+      nflag.push_back(0);
+      ++q;
+    }
+  };
+  for (std::size_t p = 0; p < P; ++p) {
+    if (mark_[pi_[p]] || mark_[pj_[p]]) continue;
+    emit_new_below((static_cast<std::uint64_t>(pi_[p]) << 32) | pj_[p]);
+    npi.push_back(pi_[p]);
+    npj.push_back(pj_[p]);
+    nflag.push_back(stale_flag_[p]);
+    nstale += stale_flag_[p];
+  }
+  emit_new_below(std::numeric_limits<std::uint64_t>::max());
+  stale_flag_.swap(nflag);
+  stale_ = nstale;
+  ++local_updates_;
+  install_pairs(sp, npi, npj);
+  return false;
 }
 
 void ContactSystem::build_pairs(const Spheres& sp) {
@@ -77,24 +234,14 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   rebuilt_since_compute_ = true;
   xref_ = sp.x;
   double smax = 0.0;
-  Vec3 lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < n; ++i) {
-    smax = std::max(smax, sp.s[i]);
-    lo = lo.cwiseMin(sp.x[i]);
-  }
-  const double cs = std::max(2.0 * smax + skin_, 1e-300);
-  std::vector<std::uint64_t> key(n);
-  std::vector<std::uint32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Vec3 c = (sp.x[i] - lo) / cs;
-    key[i] = cell_key(clampc(c.x()), clampc(c.y()), clampc(c.z()));
-    order[i] = static_cast<std::uint32_t>(i);
-  }
-  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
-    return key[a] != key[b] ? key[a] < key[b] : a < b;
-  });
-  std::vector<std::uint64_t> skey(n);
-  for (std::size_t q = 0; q < n; ++q) skey[q] = key[order[q]];
+  for (std::size_t i = 0; i < n; ++i) smax = std::max(smax, sp.s[i]);
+  cell_ = std::max(2.0 * smax + skin_, 1e-300);
+  head_.clear();
+  head_.reserve(n);
+  next_.assign(n, kNone);
+  prev_.assign(n, kNone);
+  ckey_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) link(static_cast<std::uint32_t>(i));
 
   const std::size_t nchunk = std::max<std::size_t>(1, std::min<std::size_t>(256, n / 64 + 1));
   const std::size_t csize = (n + nchunk - 1) / nchunk;
@@ -109,24 +256,9 @@ void ContactSystem::build_pairs(const Spheres& sp) {
     std::vector<std::uint32_t> tmp;
     for (std::size_t i = b; i < e; ++i) {
       tmp.clear();
-      const std::uint64_t k = key[i];
-      const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
-      const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
-      const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
-      for (std::int64_t dx = -1; dx <= 1; ++dx)
-        for (std::int64_t dy = -1; dy <= 1; ++dy)
-          for (std::int64_t dz = -1; dz <= 1; ++dz) {
-            const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
-            if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-            const std::uint64_t nk = cell_key(X, Y, Z);
-            auto r = std::equal_range(skey.begin(), skey.end(), nk);
-            for (auto it = r.first; it != r.second; ++it) {
-              const std::uint32_t j = order[static_cast<std::size_t>(it - skey.begin())];
-              if (j <= i) continue;
-              const double reach = sp.s[i] + sp.s[j] + skin_;
-              if ((sp.x[j] - sp.x[i]).squaredNorm() < reach * reach) tmp.push_back(j);
-            }
-          }
+      for_each_near(sp, static_cast<std::uint32_t>(i), [&](std::uint32_t j) {
+        if (j > i) tmp.push_back(j);
+      });
       std::sort(tmp.begin(), tmp.end());
       C[i - b] = static_cast<std::uint32_t>(tmp.size());
       J.insert(J.end(), tmp.begin(), tmp.end());
@@ -148,6 +280,14 @@ void ContactSystem::build_pairs(const Spheres& sp) {
       }
     }
   }
+  stale_flag_.assign(npi.size(), 0);
+  stale_ = 0;
+  install_pairs(sp, npi, npj);
+}
+
+void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>& npi,
+                                  std::vector<std::uint32_t>& npj) {
+  const std::size_t n = sp.size();
   {  // CSR start of each sphere's range as the i member
     std::vector<std::uint32_t> cnt(n + 1, 0);
     for (auto i : npi) ++cnt[i + 1];

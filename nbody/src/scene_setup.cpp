@@ -101,7 +101,7 @@ common::Schema ssdem_schema() {
                "amplifies strongly damped modes when a contact is resolved by few steps (a 3 km sphere "
                "pile at 4 steps per contact ran away); auto = extrapolated when the shortest contact has "
                ">= 8 steps, else pkdgrav");
-  s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin; 0 = 0.1 x max radius");
+  s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin (spheres moving more than skin/2 are re-inserted); 0 = 0.25 x max radius");
   s.add_real("contact.max_overlap_fraction", 1.0, "1", 0.0, 10.0,
              "overlap / smaller radius that stops the run with exit code 3", true);
   {

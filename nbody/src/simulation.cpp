@@ -62,7 +62,8 @@ void Simulation::setup() {
     check_dt(cfg_.contact, sp_, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
     double smax = 0;
     for (double s : sp_.s) smax = std::max(smax, s);
-    const double skin = cfg_.skin > 0.0 ? cfg_.skin : 0.1 * smax;
+    // default skin 0.25 s_max: chosen by the nbody-debris-skin sweep (nbody/README.md)
+    const double skin = cfg_.skin > 0.0 ? cfg_.skin : 0.25 * smax;
     contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin);
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);

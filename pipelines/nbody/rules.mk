@@ -35,3 +35,32 @@ nbody-collapse-smoke: ## nbody-collapse at N = 2000 for 0.3 free-fall times (sec
 	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-collapse-smoke
 	$(PY) $(NBODY_DIR)/collapse.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-collapse-smoke 2000 0.3
+
+# nbody-debris-bench: the neighbour list on debris (us per sphere-step, phase split): the demo's
+# hand-off debris (600 s of N-body, the demo's reaccumulate settings), a synthetic cloud of 1e4
+# piled + 1e4 flying spheres (1-100 m/s, nbody-debris-cloud) and the static rubble pile. With
+# DEBRIS_OLD=<another ssdem-grav> old and new run interleaved (old, new, ...; DEBRIS_ROUNDS rounds);
+# nbody-debris-skin: the contact.skin sweep (DEBRIS_SKINS, x max radius) with this build.
+DEBRIS_OLD    ?=
+DEBRIS_ROUNDS ?= 3
+DEBRIS_SKINS  ?= 0.05,0.1,0.25,0.5,1
+DEBRIS_ENV = ROOT=$(ROOT) DEMO_SPHERES=$(RUNS)/demo/spheres.h5 CLOUD=$(RUNS)/nbody-debris/cloud.h5 \
+  DEMO_TIME=600 CLOUD_TIME=$(CLOUD_TIME) PILE_TIME=$(PILE_TIME)
+CLOUD_TIME ?= 0.02
+PILE_TIME  ?= 200
+.PHONY: nbody-debris-bench nbody-debris-skin nbody-debris-scenes
+
+nbody-debris-scenes:
+	cmake --build $(BUILD) --target ssdem-grav nbody-debris-cloud -j $(JOBS)
+	test -f $(RUNS)/demo/spheres.h5 || $(MAKE) -f $(ROOT)/pipelines/Makefile $(RUNS)/demo/spheres.h5 \
+	  RUN=$(RUNS)/demo CELL=1000 COARSEN=3 'MPM_SETS=--set body[1].ppc=2' MPM_TIME=10
+	mkdir -p $(RUNS)/nbody-debris
+	test -f $(RUNS)/nbody-debris/cloud.h5 || $(BUILD)/tests/nbody/nbody-debris-cloud $(RUNS)/nbody-debris/cloud.h5
+
+nbody-debris-bench: nbody-debris-scenes ## neighbour list on debris: us/sphere-step and phases (old vs new with DEBRIS_OLD=)
+	$(DEBRIS_ENV) $(PY) $(NBODY_DIR)/debris_bench.py $(if $(DEBRIS_OLD),compare $(DEBRIS_OLD),sweep) \
+	  $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-debris $(if $(DEBRIS_OLD),--rounds $(DEBRIS_ROUNDS),--skins 0.1)
+
+nbody-debris-skin: nbody-debris-scenes ## contact.skin sweep on the debris scenes and the static pile
+	$(DEBRIS_ENV) $(PY) $(NBODY_DIR)/debris_bench.py sweep $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-debris \
+	  --skins $(DEBRIS_SKINS)

@@ -1,19 +1,44 @@
 /// @file contacts.hpp
-/// Contact detection (cell-list Verlet pair list with a skin) and force assembly for the
-/// soft-sphere law of contact_law.hpp, with contact history keyed by sphere-id pairs.
+/// Contact detection (cell-list Verlet pair list with a skin, maintained incrementally) and force
+/// assembly for the soft-sphere law of contact_law.hpp, with contact history keyed by sphere-id
+/// pairs.
 ///
-/// Neighbour search: spheres are binned in cubic cells of edge >= 2 s_max + skin (hashed cell
-/// keys, sorted, so an escaping sphere far away does not blow up a dense grid). All pairs with
-/// |x_i - x_j| < s_i + s_j + skin form the pair list, which is rebuilt when any sphere has
-/// moved more than skin/2 since the last build (then no contact can be missed).
+/// Neighbour search. Each sphere i has a reference position r_i (its position when it was last
+/// inserted into the cell grid) and a displacement d_i = |x_i - r_i|. The grid holds the r_i in
+/// cubic cells of edge c = 2 s_max + k (k = skin, hashed cell keys: an escaping sphere far away
+/// costs nothing). The pair list holds, for i < j,
+///   every pair with |r_i - r_j| < s_i + s_j + k                                          (I)
+/// (it may hold more). Update rule, before every force evaluation:
+///   M = { i : d_i > k/2 }. If M is empty, nothing is done. Otherwise r_i := x_i for i in M, each
+///   is moved to its new cell, and its pairs are recomputed from the grid (27 cells around r_i,
+///   test (I) against the partners' reference positions r_j, whatever their age). If that pair
+///   set holds no pair that is not listed yet (a lone fast fragment, spheres moving apart), the
+///   list is left untouched (it may then hold pairs beyond the reach: harmless, see below; they
+///   are flagged, and when they are 1/8 of the list grid and list are rebuilt from scratch); else
+///   the pairs of M are replaced in the (i, j)-sorted list by a merge. If |M| > max(n/4, 32),
+///   grid and list are rebuilt from scratch (r = x for all; same result, cheaper per sphere).
+///   Cell edge >= the largest reach 2 s_max + k, so every partner of (I) is in the 27 cells.
+/// No-miss criterion (proof sketch): (I) holds after every update, since pairs with no member in
+/// M keep their r and were tested against them, and pairs with a member in M are re-tested with
+/// the new r (both members' current r; a pair with both in M is tested once both are moved).
+/// After the update d_i <= k/2 for all i. For an unlisted pair, by (I) and the triangle
+/// inequality, |x_i - x_j| >= |r_i - r_j| - d_i - d_j >= s_i + s_j + k - k/2 - k/2 = s_i + s_j,
+/// i.e. no overlap (contact_pair needs |x_i - x_j| < s_i + s_j). So every pair in contact is
+/// listed. (A per-pair test d_i + d_j <= k would do too; the per-sphere k/2 makes it O(1) per
+/// sphere.) Only the spheres that moved more than k/2 pay: on expanding debris the few fast
+/// fragments are re-inserted every step, the slow bulk is not touched.
 /// Determinism: the pair list is sorted by (i, j) with i < j; per-pair results are written to
 /// per-pair arrays in parallel and gathered per sphere in ascending partner order, so the
 /// summation order (and hence the result, bit for bit) is independent of the thread count and
-/// of when the list was rebuilt (pairs not in contact contribute nothing).
+/// of when and how the list was updated: listed pairs not in contact contribute nothing and
+/// reset their history exactly as an unlisted pair has none, so the trajectories are
+/// bit-identical to a list rebuilt from scratch every step.
 /// History: per pair (S, n_old, theta_r, theta_q) for the enabled parts only, carried across
-/// rebuilds by an id-pair lookup and exported/imported for checkpoints.
+/// updates by an (i, j)-key merge (a pair in contact is never dropped, by the criterion above)
+/// and exported/imported for checkpoints keyed by ids.
 #pragma once
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "ssdem/contact_law.hpp"
@@ -41,7 +66,9 @@ struct ContactStats {
   std::size_t wall_contacts = 0;
   double max_overlap_frac = 0.0;  ///< max overlap / smaller radius
   std::size_t worst_a = 0, worst_b = 0;  ///< indices of the worst pair (b = a for a wall)
-  bool rebuilt = false;  ///< the pair list was rebuilt since the previous compute()
+  /// the pair list was rebuilt from scratch since the previous compute() (local updates are
+  /// counted by ContactSystem::local_update_count / reinsert_count)
+  bool rebuilt = false;
 };
 
 class ContactSystem {
@@ -52,8 +79,11 @@ class ContactSystem {
   const std::vector<Plane>& walls() const { return walls_; }
   double skin() const { return skin_; }
 
-  /// Rebuild the pair list if needed (or if `force`). Returns whether it rebuilt. The caller
-  /// (Simulation::compute_forces) calls it once before every compute(); nothing else does.
+  /// Bring the pair list up to date (see the file comment): re-insert the spheres that moved
+  /// more than skin/2, or rebuild everything if `force`, on a size change or when more than a
+  /// quarter (and more than 32) moved. Returns whether it rebuilt from scratch (a local update
+  /// returns false; see local_update_count()). The caller (Simulation::compute_forces) calls it
+  /// once before every compute(); nothing else does.
   bool update_neighbors(const Spheres& sp, bool force = false);
   /// Contact forces and torques for all spheres (overwrites F and T), using predicted
   /// velocities/spins vpred/wpred and half-step spins for the transport rotation. Uses the pair
@@ -70,12 +100,30 @@ class ContactSystem {
   void import_history(const Spheres& sp, const std::vector<HistoryRecord>& recs);
 
   std::size_t pair_count() const { return pi_.size(); }
+  /// Pair list (i < j, sorted by (i, j)): the i and j members.
+  const std::vector<std::uint32_t>& pair_i() const { return pi_; }
+  const std::vector<std::uint32_t>& pair_j() const { return pj_; }
+  /// Whether (a, b) (either order) is in the pair list.
+  bool listed(std::size_t a, std::size_t b) const;
+  /// Full rebuilds (grid and list from scratch).
   std::size_t rebuild_count() const { return rebuilds_; }
+  /// Local updates that changed the pair list (merge), and sphere re-insertions in total.
+  std::size_t local_update_count() const { return local_updates_; }
+  std::size_t reinsert_count() const { return reinserts_; }
   /// Bytes held per sphere by the contact system (pair list, history, CSR), current sizes.
   double bytes_per_sphere(std::size_t n) const;
 
  private:
   void build_pairs(const Spheres& sp);
+  void install_pairs(const Spheres& sp, std::vector<std::uint32_t>& npi,
+                     std::vector<std::uint32_t>& npj);
+  bool local_update(const Spheres& sp);
+  std::uint64_t cell_of(const Vec3& x) const;
+  void link(std::uint32_t i);
+  void unlink(std::uint32_t i);
+  /// f(j) for every j != i with |r_i - r_j| < s_i + s_j + skin (reference positions).
+  template <class F>
+  void for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const;
   template <unsigned PARTS>
   ContactStats compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                             const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
@@ -102,8 +150,17 @@ class ContactSystem {
   std::vector<std::uint8_t> wactive_;
   std::vector<Vec3> wS_, wnold_, wthr_;
   std::vector<double> wthq_;
-  std::vector<Vec3> xref_;
-  std::size_t rebuilds_ = 0;
+  std::vector<Vec3> xref_;  // reference positions r_i
+  // cell grid of the reference positions: cell key -> first sphere, doubly linked per cell
+  double cell_ = 0.0;
+  std::unordered_map<std::uint64_t, std::uint32_t> head_;
+  std::vector<std::uint32_t> next_, prev_;
+  std::vector<std::uint64_t> ckey_;
+  std::vector<std::uint8_t> mark_;   // scratch: sphere in the moved set
+  std::vector<std::uint32_t> moved_;
+  std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0;
+  std::vector<std::uint8_t> stale_flag_;  // per pair: left listed beyond its reach
+  std::size_t stale_ = 0;                 // number of flagged pairs
   bool rebuilt_since_compute_ = false;
   std::vector<HistoryRecord> pending_;  // imported history waiting for the first build
   bool import_ = false;

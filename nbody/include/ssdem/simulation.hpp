@@ -47,7 +47,7 @@ struct SimConfig {
   bool contacts = false;
   ContactParams contact;
   std::vector<Plane> walls;
-  double skin = 0.0;             ///< neighbour-list skin [m]; <= 0: 0.1 * max radius
+  double skin = 0.0;             ///< neighbour-list skin [m]; <= 0: 0.25 * max radius
   double max_overlap_frac = 1.0; ///< overlap / smaller radius that stops the run (exit 3)
   double min_steps_per_contact = 10.0;
   bool extrapolated_predictor = true;  ///< false: pkdgrav predictor v_{n+1/2} + (h/2) a_n

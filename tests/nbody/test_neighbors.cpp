@@ -1,0 +1,207 @@
+// Neighbour list (contacts.hpp): no contact is ever missed by the incremental pair list, contact
+// history survives local updates bit for bit (against a list rebuilt from scratch every step, the
+// old behaviour), and on debris (few fast, many slow) full rebuilds are rare.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+#include "ssdem/contact_params.hpp"
+#include "ssdem/contacts.hpp"
+#include "ssdem/generators.hpp"
+
+using namespace ssdem;
+
+namespace {
+
+// Pile of radius R (spheres of radius 1) with per-sphere velocities log-uniform in [vlo, vhi]
+// in random directions (kinematic: they pass through each other, which is fine for the list).
+Spheres moving_pile(double R, double vlo, double vhi, std::uint64_t seed) {
+  Spheres sp = lattice_pile(R, 1.0, 2000.0, 0.05, seed);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> U(0.0, 1.0);
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    Vec3 d(U(rng) - 0.5, U(rng) - 0.5, U(rng) - 0.5);
+    sp.v[i] = vlo * std::pow(vhi / vlo, U(rng)) * d.normalized();
+  }
+  return sp;
+}
+
+// Every overlapping pair (brute force O(N^2)) must be in the list; returns the number missed
+// and adds the number of overlapping pairs to `found`.
+std::size_t missed(const ContactSystem& cs, const Spheres& sp, std::size_t& found) {
+  std::size_t miss = 0;
+  for (std::size_t i = 0; i < sp.size(); ++i)
+    for (std::size_t j = i + 1; j < sp.size(); ++j) {
+      const double r = sp.s[i] + sp.s[j];
+      if ((sp.x[j] - sp.x[i]).squaredNorm() < r * r) {
+        ++found;
+        if (!cs.listed(i, j)) ++miss;
+      }
+    }
+  return miss;
+}
+
+ContactParams linear(unsigned parts) {
+  ContactParams p;
+  p.parts = parts;
+  p.kn = 1e7;
+  p.en = 0.5;
+  p.et = 0.5;
+  p.mu_s = 0.6;
+  p.mu_r = 0.1;
+  p.mu_t = 0.1;
+  return p;
+}
+
+}  // namespace
+
+// A 5 km/s fragment through a pile and a 100 m/s one into it, pile spheres moving at 0.1-50 m/s
+// (so local updates happen every step, in varying subsets): no overlapping pair is ever unlisted.
+TEST(Neighbors, NoMissedContactFastFragments) {
+  for (double skin : {0.0, 0.1, 0.5, 2.0}) {
+    Spheres sp = moving_pile(6.0, 0.1, 50.0, 7);
+    const std::size_t n0 = sp.size();
+    sp.push(1000000, Vec3(-20.0, 0.3, 0.2), Vec3(5000.0, 0, 0), Vec3::Zero(), 1.0, 0.8);
+    sp.push(1000001, Vec3(0.4, -8.5, 0.1), Vec3(0, 100.0, 0), Vec3::Zero(), 1.0, 1.2);
+    ContactSystem cs(linear(0), {}, skin);
+    const double dt = 1e-4;  // fast fragment: 0.5 m per step; pile: up to 0.005 m per step
+    std::size_t found = 0, fast_found = 0, miss = 0;
+    for (int step = 0; step < 600; ++step) {
+      cs.update_neighbors(sp);
+      miss += missed(cs, sp, found);
+      for (std::size_t i = 0; i < n0; ++i)
+        for (std::size_t k : {n0, n0 + 1}) {
+          const double r = sp.s[i] + sp.s[k];
+          if ((sp.x[k] - sp.x[i]).squaredNorm() < r * r) ++fast_found;
+        }
+      for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
+    }
+    EXPECT_EQ(miss, 0u) << "skin " << skin;
+    EXPECT_GT(found, 1000u);
+    EXPECT_GT(fast_found, 50u) << "the fragments must actually meet the pile";
+    EXPECT_GT(cs.reinsert_count() + cs.rebuild_count(), 100u);
+    if (skin > 0.0) {
+      EXPECT_LT(cs.rebuild_count(), 600u / 4) << "skin " << skin;
+    }
+  }
+}
+
+namespace {
+
+struct DemRun {
+  Spheres sp;
+  ContactSystem cs;
+  std::vector<Vec3> F, T;
+};
+
+// Symplectic Euler with the contact forces of `cs`; force_rebuild: rebuild the list from scratch
+// every step (the old behaviour whenever any sphere had moved more than skin/2).
+void step(DemRun& r, double dt, bool force_rebuild) {
+  r.cs.update_neighbors(r.sp, force_rebuild);
+  r.cs.compute(r.sp, r.sp.v, r.sp.w, dt, r.F, r.T);
+  for (std::size_t i = 0; i < r.sp.size(); ++i) {
+    r.sp.v[i] += dt * r.F[i] / r.sp.m[i];
+    r.sp.w[i] += dt * r.T[i] / r.sp.inertia(i);
+    r.sp.x[i] += dt * r.sp.v[i];
+  }
+}
+
+}  // namespace
+
+// Full history (tangential spring, rolling, twisting, damping) through local updates: a pile whose
+// spheres collide with each other, an oblique 5 m/s fragment and spheres flying past the contact
+// region, against the same run with the list rebuilt from scratch every step. Trajectories and
+// the exported history must agree bit for bit.
+TEST(Neighbors, HistoryBitIdenticalToRebuildEveryStep) {
+  const unsigned parts = kPartDamping | kPartTangential | kPartRolling | kPartTwisting;
+  Spheres sp = moving_pile(4.0, 0.05, 1.0, 3);
+  const double m = 2000.0 * 4.0 / 3.0 * M_PI;
+  sp.push(500000, Vec3(-7.0, 1.1, 0.3), Vec3(5.0, 0.0, 0.0), Vec3(0, 0, 1.0), m, 1.0);
+  for (int k = 0; k < 6; ++k)  // through the pile, re-inserted every few steps: new pairs
+    sp.push(600000 + k, Vec3(-9.0 + 0.4 * k, -3.0 + 1.2 * k, -1.0 + 0.3 * k),
+            Vec3(3.0 + k, 0.0, 0.0), Vec3::Zero(), m, 1.0);
+  DemRun a{sp, ContactSystem(linear(parts), {}, 0.1), {}, {}};
+  DemRun b{sp, ContactSystem(linear(parts), {}, 0.1), {}, {}};
+  const double dt = 5e-4;  // ~130 steps per contact
+  std::size_t diff = 0, contacts = 0;
+  for (int s = 0; s < 2000; ++s) {
+    step(a, dt, false);
+    step(b, dt, true);
+    for (std::size_t i = 0; i < sp.size(); ++i)
+      for (int c = 0; c < 3; ++c)
+        if (a.sp.x[i][c] != b.sp.x[i][c] || a.sp.w[i][c] != b.sp.w[i][c]) ++diff;
+    contacts += a.cs.export_history(a.sp).size();
+  }
+  EXPECT_EQ(diff, 0u);
+  const auto ha = a.cs.export_history(a.sp), hb = b.cs.export_history(b.sp);
+  ASSERT_EQ(ha.size(), hb.size());
+  for (std::size_t k = 0; k < ha.size(); ++k) {
+    EXPECT_EQ(ha[k].id_a, hb[k].id_a);
+    EXPECT_EQ(ha[k].id_b, hb[k].id_b);
+    EXPECT_TRUE(ha[k].S == hb[k].S);
+    EXPECT_TRUE(ha[k].theta_r == hb[k].theta_r);
+    EXPECT_EQ(ha[k].theta_q, hb[k].theta_q);
+  }
+  EXPECT_GT(contacts, 3000u) << "the test must have contacts with history";
+  std::printf("merges %zu, re-insertions %zu, full rebuilds %zu\n", a.cs.local_update_count(),
+              a.cs.reinsert_count(), a.cs.rebuild_count());
+  EXPECT_GE(a.cs.local_update_count(), 3u) << "the test must exercise merges";
+  EXPECT_LT(a.cs.rebuild_count(), 100u);  // vs 2000
+  EXPECT_EQ(b.cs.rebuild_count(), 2000u);
+}
+
+// Oblique contact of two spheres with the tangential spring while both are re-inserted during the
+// contact and a third sphere changes their pair set: S continues exactly as with full rebuilds.
+TEST(Neighbors, TangentialSpringContinuity) {
+  const double m = 2000.0 * 4.0 / 3.0 * M_PI;
+  Spheres sp;
+  sp.push(1, Vec3(-0.95, 0.0, 0.0), Vec3(1.0, 0.0, 0.0), Vec3::Zero(), m, 1.0);
+  sp.push(2, Vec3(0.95, 0.9, 0.0), Vec3(-1.0, 0.0, 0.0), Vec3::Zero(), m, 1.0);
+  sp.push(3, Vec3(-0.3, 2.905, 0.0), Vec3(3.0, 0.0, 0.0), Vec3::Zero(), m, 1.0);  // flies past
+  const ContactParams p = linear(kPartTangential);
+  DemRun a{sp, ContactSystem(p, {}, 0.02), {}, {}};
+  DemRun b{sp, ContactSystem(p, {}, 0.02), {}, {}};
+  const double dt = 2e-4;
+  int in_contact = 0;
+  double smax = 0.0;
+  for (int s = 0; s < 4000; ++s) {
+    step(a, dt, false);
+    step(b, dt, true);
+    const auto ha = a.cs.export_history(a.sp), hb = b.cs.export_history(b.sp);
+    ASSERT_EQ(ha.size(), hb.size()) << "step " << s;
+    for (std::size_t k = 0; k < ha.size(); ++k) {
+      ASSERT_TRUE(ha[k].S == hb[k].S) << "step " << s;
+      smax = std::max(smax, ha[k].S.norm());
+    }
+    in_contact += !ha.empty();
+  }
+  EXPECT_GT(in_contact, 50);
+  EXPECT_GT(smax, 1e-4) << "the spring must be loaded";
+  std::printf("merges %zu, re-insertions %zu\n", a.cs.local_update_count(), a.cs.reinsert_count());
+  EXPECT_GE(a.cs.local_update_count(), 1u);
+  EXPECT_GE(a.cs.reinsert_count(), 20u);
+  EXPECT_EQ(a.cs.rebuild_count(), 1u);
+}
+
+// Debris-like set: 1000 slow spheres (0.001-0.01 m/s) and 5 fragments at 1 km/s. The old rule
+// (any sphere moved more than skin/2 -> rebuild) rebuilt every step; now only the fragments are
+// re-inserted and full rebuilds are rare.
+TEST(Neighbors, FewRebuildsOnDebris) {
+  Spheres sp = moving_pile(7.0, 0.001, 0.01, 11);
+  for (int k = 0; k < 5; ++k)
+    sp.push(900000 + k, Vec3(10.0 + k, 3.0 * k, 0.0),
+            1000.0 * Vec3(1.0, 0.1 * k, -0.05 * k).normalized(), Vec3::Zero(), 1.0, 0.5);
+  ContactSystem cs(linear(0), {}, 0.1);
+  const double dt = 1e-3;
+  const int steps = 1000;
+  for (int s = 0; s < steps; ++s) {
+    cs.update_neighbors(sp);
+    for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
+  }
+  EXPECT_LE(cs.rebuild_count(), 5u);                 // vs `steps` with the old rule
+  EXPECT_GE(cs.reinsert_count(), 5u * (steps - 1));  // the fragments, every step
+  EXPECT_LT(cs.reinsert_count(), 5u * steps + sp.size());
+}
