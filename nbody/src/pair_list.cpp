@@ -1,0 +1,385 @@
+/// @file pair_list.cpp
+/// The contact pair list of ContactSystem: the hashed cell grid of reference positions, the
+/// incremental update (re-insertion of the spheres that moved more than skin/2) and full rebuilds.
+/// The rule and its no-miss criterion are stated in contacts.hpp.
+#include "ssdem/contacts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+
+#include "common/status.hpp"
+
+namespace ssdem {
+namespace {
+// Below this many items a loop runs serially (thread start-up would dominate).
+constexpr std::size_t kOmpMin = 2048;
+constexpr int kCellBits = 21;
+constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+  return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
+         (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
+}
+}  // namespace
+
+bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
+  const std::size_t n = sp.size();
+  if (force || xref_.size() != n || import_) {
+    build_pairs(sp);
+    return true;
+  }
+  return local_update(sp);
+}
+
+std::uint64_t ContactSystem::cell_of(const Vec3& x) const {
+  // floor(x / c) offset by 2^20 and clamped to 21 bits per axis (monotone, so spheres within one
+  // cell edge of each other still land in the same or adjacent cells; NaN goes to cell 0).
+  auto q = [&](double v) -> std::int64_t {
+    const double f = std::floor(v / cell_) + static_cast<double>(std::int64_t{1} << 20);
+    if (!(f > 0.0)) return 0;
+    if (f >= static_cast<double>(kCellMax)) return kCellMax;
+    return static_cast<std::int64_t>(f);
+  };
+  return cell_key(q(x.x()), q(x.y()), q(x.z()));
+}
+
+void ContactSystem::link(std::uint32_t i) {
+  const std::uint64_t k = cell_of(xref_[i]);
+  ckey_[i] = k;
+  auto it = head_.try_emplace(k, kNone).first;
+  next_[i] = it->second;
+  prev_[i] = kNone;
+  if (it->second != kNone) prev_[it->second] = i;
+  it->second = i;
+}
+
+void ContactSystem::unlink(std::uint32_t i) {
+  if (prev_[i] != kNone) {
+    next_[prev_[i]] = next_[i];
+  } else {
+    auto it = head_.find(ckey_[i]);
+    if (next_[i] == kNone)
+      head_.erase(it);
+    else
+      it->second = next_[i];
+  }
+  if (next_[i] != kNone) prev_[next_[i]] = prev_[i];
+  next_[i] = prev_[i] = kNone;
+}
+
+template <class F>
+void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const {
+  const std::uint64_t k = ckey_[i];
+  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
+  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
+  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
+  const Vec3 xi = xref_[i];
+  const double si = sp.s[i];
+  for (std::int64_t dx = -1; dx <= 1; ++dx)
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+        auto it = head_.find(cell_key(X, Y, Z));
+        if (it == head_.end()) continue;
+        for (std::uint32_t j = it->second; j != kNone; j = next_[j]) {
+          if (j == i) continue;
+          // same operand order as the test for (min, max): the set is symmetric bit for bit
+          const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
+          if ((xref_[j] - xi).squaredNorm() < reach * reach) f(j);
+        }
+      }
+}
+
+bool ContactSystem::listed(std::size_t a, std::size_t b) const {
+  if (a > b) std::swap(a, b);
+  if (a + 1 >= irow_.size()) return false;
+  auto first = pj_.begin() + irow_[a], last = pj_.begin() + irow_[a + 1];
+  return std::binary_search(first, last, static_cast<std::uint32_t>(b));
+}
+
+bool ContactSystem::local_update(const Spheres& sp) {
+  const std::size_t n = sp.size();
+  const double lim2 = 0.25 * skin_ * skin_;
+  moved_.clear();
+  if (n >= kOmpMin) {
+    mark_.resize(n);
+#pragma omp parallel for schedule(static)
+    for (std::size_t i = 0; i < n; ++i)
+      mark_[i] = (sp.x[i] - xref_[i]).squaredNorm() > lim2 ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (mark_[i]) moved_.push_back(static_cast<std::uint32_t>(i));
+  } else {
+    for (std::size_t i = 0; i < n; ++i)
+      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) moved_.push_back(static_cast<std::uint32_t>(i));
+  }
+  if (moved_.empty()) return false;
+  if (moved_.size() > std::max<std::size_t>(n / 4, 32)) {  // cheaper from scratch
+    build_pairs(sp);
+    return true;
+  }
+  reinserts_ += moved_.size();
+  mark_.assign(n, 0);
+  for (std::uint32_t i : moved_) {
+    mark_[i] = 1;
+    unlink(i);
+    xref_[i] = sp.x[i];
+    link(i);
+  }
+  auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
+  std::vector<std::uint64_t> nk;
+  std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
+  for (std::uint32_t i : moved_) {
+    for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
+    for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+    for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
+      const std::uint32_t p = jpair_[q];
+      ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+    }
+  }
+  std::sort(nk.begin(), nk.end());
+  nk.erase(std::unique(nk.begin(), nk.end()), nk.end());
+  std::sort(ok.begin(), ok.end());
+  ok.erase(std::unique(ok.begin(), ok.end()), ok.end());
+  // No new pair: nothing to change but the reference positions (pairs that left the reach stay
+  // listed until a merge or rebuild drops them; a listed pair out of contact contributes nothing).
+  // Such pairs are flagged and counted; once they are an eighth of the list, everything is
+  // rebuilt so that the list does not keep growing on an expanding cloud.
+  {
+    bool all_listed = true;
+    std::size_t q = 0;
+    for (std::uint64_t k : nk) {
+      while (q < ok.size() && ok[q].first < k) ++q;
+      if (q == ok.size() || ok[q].first != k) {
+        all_listed = false;
+        break;
+      }
+    }
+    if (all_listed) {
+      for (const auto& [k, p] : ok)
+        if (!std::binary_search(nk.begin(), nk.end(), k) && !stale_flag_[p]) {
+          stale_flag_[p] = 1;
+          ++stale_;
+        }
+      if (8 * stale_ <= std::max<std::size_t>(pi_.size(), 64)) return false;
+      build_pairs(sp);
+      return true;
+    }
+  }
+  // Merge: old pairs with no member in M, plus the recomputed pairs of M, sorted by (i, j).
+  const std::size_t P = pi_.size();
+  std::vector<std::uint32_t> npi, npj;
+  std::vector<std::uint8_t> nflag;  // stale flags carried for the pairs kept
+  npi.reserve(P - ok.size() + nk.size());
+  npj.reserve(P - ok.size() + nk.size());
+  nflag.reserve(P - ok.size() + nk.size());
+  std::size_t q = 0, nstale = 0;
+  auto emit_new_below = [&](std::uint64_t k) {
+    while (q < nk.size() && nk[q] < k) {
+      npi.push_back(static_cast<std::uint32_t>(nk[q] >> 32));
+      npj.push_back(static_cast<std::uint32_t>(nk[q] & 0xFFFFFFFFu));
+      nflag.push_back(0);
+      ++q;
+    }
+  };
+  for (std::size_t p = 0; p < P; ++p) {
+    if (mark_[pi_[p]] || mark_[pj_[p]]) continue;
+    emit_new_below((static_cast<std::uint64_t>(pi_[p]) << 32) | pj_[p]);
+    npi.push_back(pi_[p]);
+    npj.push_back(pj_[p]);
+    nflag.push_back(stale_flag_[p]);
+    nstale += stale_flag_[p];
+  }
+  emit_new_below(std::numeric_limits<std::uint64_t>::max());
+  stale_flag_.swap(nflag);
+  stale_ = nstale;
+  ++local_updates_;
+  install_pairs(sp, npi, npj);
+  return false;
+}
+
+void ContactSystem::build_pairs(const Spheres& sp) {
+  const std::size_t n = sp.size();
+  if (n >= std::numeric_limits<std::uint32_t>::max())
+    throw common::InputError("ssdem: more than 2^32-1 spheres are not supported");
+  ++rebuilds_;
+  rebuilt_since_compute_ = true;
+  xref_ = sp.x;
+  double smax = 0.0;
+  for (std::size_t i = 0; i < n; ++i) smax = std::max(smax, sp.s[i]);
+  cell_ = std::max(2.0 * smax + skin_, 1e-300);
+  head_.clear();
+  head_.reserve(n);
+  next_.assign(n, kNone);
+  prev_.assign(n, kNone);
+  ckey_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) link(static_cast<std::uint32_t>(i));
+
+  const std::size_t nchunk = std::max<std::size_t>(1, std::min<std::size_t>(256, n / 64 + 1));
+  const std::size_t csize = (n + nchunk - 1) / nchunk;
+  std::vector<std::vector<std::uint32_t>> cj(nchunk);
+  std::vector<std::vector<std::uint32_t>> ccount(nchunk);
+#pragma omp parallel for schedule(dynamic, 1) if (n >= kOmpMin)
+  for (std::size_t ch = 0; ch < nchunk; ++ch) {
+    const std::size_t b = ch * csize, e = std::min(n, b + csize);
+    auto& J = cj[ch];
+    auto& C = ccount[ch];
+    C.assign(e > b ? e - b : 0, 0);
+    std::vector<std::uint32_t> tmp;
+    for (std::size_t i = b; i < e; ++i) {
+      tmp.clear();
+      for_each_near(sp, static_cast<std::uint32_t>(i), [&](std::uint32_t j) {
+        if (j > i) tmp.push_back(j);
+      });
+      std::sort(tmp.begin(), tmp.end());
+      C[i - b] = static_cast<std::uint32_t>(tmp.size());
+      J.insert(J.end(), tmp.begin(), tmp.end());
+    }
+  }
+  // Concatenate in chunk order -> pair list sorted by (i, j).
+  std::vector<std::uint32_t> npi, npj;
+  std::size_t total = 0;
+  for (auto& J : cj) total += J.size();
+  npi.reserve(total);
+  npj.reserve(total);
+  for (std::size_t ch = 0; ch < nchunk; ++ch) {
+    std::size_t q = 0;
+    for (std::size_t ii = 0; ii < ccount[ch].size(); ++ii) {
+      const std::size_t i = ch * csize + ii;
+      for (std::uint32_t c = 0; c < ccount[ch][ii]; ++c, ++q) {
+        npi.push_back(static_cast<std::uint32_t>(i));
+        npj.push_back(cj[ch][q]);
+      }
+    }
+  }
+  stale_flag_.assign(npi.size(), 0);
+  stale_ = 0;
+  install_pairs(sp, npi, npj);
+}
+
+void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>& npi,
+                                  std::vector<std::uint32_t>& npj) {
+  const std::size_t n = sp.size();
+  {  // CSR start of each sphere's range as the i member
+    std::vector<std::uint32_t> cnt(n + 1, 0);
+    for (auto i : npi) ++cnt[i + 1];
+    for (std::size_t i = 0; i < n; ++i) cnt[i + 1] += cnt[i];
+    irow_ = cnt;
+  }
+  // Carry history from the old list (both sorted by (i, j)).
+  const std::size_t P = npi.size();
+  std::vector<std::uint8_t> nact(P, 0);
+  std::vector<Vec3> nS, nno, nthr;
+  std::vector<double> nthq;
+  if (tang_) nS.assign(P, Vec3::Zero());
+  if (hist_) nno.assign(P, Vec3::Zero());
+  if (roll_) nthr.assign(P, Vec3::Zero());
+  if (twist_) nthq.assign(P, 0.0);
+  auto copy_from = [&](std::size_t to, const HistoryRecord& r) {
+    nact[to] = 1;
+    if (tang_) nS[to] = r.S;
+    if (hist_) nno[to] = r.n_old;
+    if (roll_) nthr[to] = r.theta_r;
+    if (twist_) nthq[to] = r.theta_q;
+  };
+  if (import_) {
+    import_ = false;
+    // Imported history: map ids to indices, orient each record as (lower index, higher).
+    std::unordered_map<std::uint64_t, std::uint32_t> idx;
+    idx.reserve(n * 2);
+    for (std::size_t i = 0; i < n; ++i) idx.emplace(sp.id[i], static_cast<std::uint32_t>(i));
+    std::vector<std::pair<std::uint64_t, HistoryRecord>> recs;
+    for (const auto& r0 : pending_) {
+      if (r0.id_b >= kWallIdBase) continue;
+      auto ia = idx.find(r0.id_a), ib = idx.find(r0.id_b);
+      if (ia == idx.end() || ib == idx.end())
+        throw common::InputError("checkpoint contact history names an unknown sphere id");
+      HistoryRecord r = r0;
+      std::uint32_t a = ia->second, b = ib->second;
+      if (a > b) {  // swapping p and n flips S, n_old and theta_r; theta_q is symmetric
+        std::swap(a, b);
+        r.S = -r.S;
+        r.n_old = -r.n_old;
+        r.theta_r = -r.theta_r;
+      }
+      recs.emplace_back((static_cast<std::uint64_t>(a) << 32) | b, r);
+    }
+    std::sort(recs.begin(), recs.end(),
+              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::size_t q = 0;
+    for (std::size_t p = 0; p < P && q < recs.size(); ++p) {
+      const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
+      while (q < recs.size() && recs[q].first < k) ++q;  // not a neighbour: cannot be in contact
+      if (q < recs.size() && recs[q].first == k) copy_from(p, recs[q].second);
+    }
+    // wall history
+    const std::size_t nw = walls_.size();
+    if (nw) {
+      wactive_.assign(n * nw, 0);
+      if (tang_) wS_.assign(n * nw, Vec3::Zero());
+      if (hist_) wnold_.assign(n * nw, Vec3::Zero());
+      if (roll_) wthr_.assign(n * nw, Vec3::Zero());
+      if (twist_) wthq_.assign(n * nw, 0.0);
+      for (const auto& r : pending_) {
+        if (r.id_b < kWallIdBase) continue;
+        const std::size_t w = r.id_b - kWallIdBase;
+        auto ia = idx.find(r.id_a);
+        if (ia == idx.end() || w >= nw)
+          throw common::InputError("checkpoint wall history names an unknown sphere or wall");
+        const std::size_t s = ia->second * nw + w;
+        wactive_[s] = 1;
+        if (tang_) wS_[s] = r.S;
+        if (hist_) wnold_[s] = r.n_old;
+        if (roll_) wthr_[s] = r.theta_r;
+        if (twist_) wthq_[s] = r.theta_q;
+      }
+    }
+    pending_.clear();
+  } else {
+    std::size_t q = 0;
+    const std::size_t Q = pi_.size();
+    for (std::size_t p = 0; p < P && q < Q; ++p) {
+      const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
+      auto okey = [&](std::size_t t) { return (static_cast<std::uint64_t>(pi_[t]) << 32) | pj_[t]; };
+      while (q < Q && okey(q) < k) ++q;
+      if (q < Q && okey(q) == k && active_[q]) {
+        nact[p] = 1;
+        if (tang_) nS[p] = S_[q];
+        if (hist_) nno[p] = nold_[q];
+        if (roll_) nthr[p] = thr_[q];
+        if (twist_) nthq[p] = thq_[q];
+      }
+    }
+  }
+  pi_.swap(npi);
+  pj_.swap(npj);
+  active_.swap(nact);
+  S_.swap(nS);
+  nold_.swap(nno);
+  thr_.swap(nthr);
+  thq_.swap(nthq);
+  pF_.resize(P);
+  pTp_.resize(P);
+  pTn_.resize(P);
+  // CSR of pairs by their j member (ascending pair index = ascending partner i).
+  jrow_.assign(n + 1, 0);
+  for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];
+  for (std::size_t i = 0; i < n; ++i) jrow_[i + 1] += jrow_[i];
+  jpair_.resize(P);
+  {
+    std::vector<std::uint32_t> fill(jrow_.begin(), jrow_.end() - 1);
+    for (std::size_t p = 0; p < P; ++p) jpair_[fill[pj_[p]]++] = static_cast<std::uint32_t>(p);
+  }
+  const std::size_t nw = walls_.size();
+  if (nw && wactive_.size() != n * nw) {
+    wactive_.assign(n * nw, 0);
+    if (tang_) wS_.assign(n * nw, Vec3::Zero());
+    if (hist_) wnold_.assign(n * nw, Vec3::Zero());
+    if (roll_) wthr_.assign(n * nw, Vec3::Zero());
+    if (twist_) wthq_.assign(n * nw, 0.0);
+  }
+}
+}  // namespace ssdem
