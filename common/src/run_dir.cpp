@@ -54,6 +54,7 @@ RunDirectory::RunDirectory(const std::string& dir, std::string tool, std::functi
     spdlog::warn("{}: cannot record the pid in the run lock: {}", lock, std::strerror(errno));
   if (!adopt.empty()) {
     staging_ = adopt;
+    adopted_ = true;
   } else {
     staging_ = (fs::path(dir_) / (kStagingPrefix + std::to_string(::getpid()))).string();
     fs::remove_all(staging_, ec);  // a dead run's, with our pid
@@ -66,7 +67,10 @@ RunDirectory::~RunDirectory() {
   std::error_code ec;
   if (!published_ && !staging_.empty() && fs::is_empty(staging_, ec) && !ec) {
     fs::remove(staging_, ec);  // nothing written (e.g. refused input)
-  } else if (!published_ && !staging_.empty())
+  } else if (!published_ && adopted_)
+    spdlog::warn("{}: the restart did not complete; {} is unchanged and the output of the run it continues is "
+                 "still in {}", tool_, dir_, staging_);
+  else if (!published_ && !staging_.empty())
     spdlog::warn("{}: the run did not complete; {} is unchanged and this run's partial output is in {}", tool_, dir_,
                  staging_);
   if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock

@@ -52,6 +52,7 @@ class RunDirectory {
   std::function<bool(const std::string&)> is_output_;
   int lock_fd_ = -1;
   bool published_ = false;
+  bool adopted_ = false;
 };
 
 }  // namespace common
