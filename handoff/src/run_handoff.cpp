@@ -4,6 +4,7 @@
 
 #include <chrono>
 
+#include "common/finite.hpp"
 #include "common/atomic_file.hpp"
 #include "common/h5.hpp"
 #include "common/status.hpp"
@@ -98,11 +99,17 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
   const auto t0 = std::chrono::steady_clock::now();
   const common::ParticleSnapshot snap = common::read_particle_snapshot(cfg.input);
   common::ParticleSnapshot outflow;
-  if (!cfg.outflow.empty()) outflow = common::read_particle_snapshot(cfg.outflow);
+  common::check_input_particles(snap, cfg.input);
+  if (!cfg.outflow.empty()) {
+    outflow = common::read_particle_snapshot(cfg.outflow);
+    common::check_input_particles(outflow, cfg.outflow);
+  }
   const auto t1 = std::chrono::steady_clock::now();
   HandoffOutcome out = hand_off(snap, cfg, cfg.outflow.empty() ? nullptr : &outflow);
   const auto t2 = std::chrono::steady_clock::now();
   const Audit& a = out.audit;
+  // nothing is written unless every output value (and the energies) is finite: exit 3
+  common::check_output_spheres(out.result.spheres, cfg.output);
   spdlog::info("{}", audit_text(a));
   spdlog::info("read {:.3f} s, hand-off {:.3f} s ({:.2e} particles/s, {} kernels)",
                std::chrono::duration<double>(t1 - t0).count(), std::chrono::duration<double>(t2 - t1).count(),

@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "common/finite.hpp"
+#include "common/run_dir.hpp"
 #include "common/log.hpp"
 #include "common/status.hpp"
 #include "mpm/output.hpp"
@@ -27,11 +29,17 @@ std::string snap_name(const RunConfig& r, const std::string& tag, std::int64_t s
 
 RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   Setup st = build_setup(scene);
-  const RunConfig rc = st.run;
+  // The run locks output.directory and writes into a staging directory, published into it
+  // when the run completes (common/run_dir.hpp): an interrupted or failed run leaves the
+  // previous run's files as they were. rc.out_dir is the staging directory below.
+  const std::string prefix = st.run.prefix + "_";
+  common::RunDirectory rd(st.run.out_dir, "mpm-frag", [&](const std::string& n) {
+    return n.rfind(prefix, 0) == 0 && (n.ends_with(".h5") || n.ends_with(".xmf") || n.ends_with(".csv") ||
+                                       n.ends_with(".partial"));
+  });
+  RunConfig rc = st.run;
+  rc.out_dir = rd.staging();
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
-  std::error_code ec;
-  std::filesystem::create_directories(rc.out_dir, ec);
-  if (ec) throw common::IoError("cannot create output directory '" + rc.out_dir + "': " + ec.message());
 
   const std::size_t n = st.particles.size();
   Solver solver(st.solver, st.grid, std::move(st.particles), std::move(st.materials));
@@ -57,7 +65,23 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   auto write_snap = [&](const ParticleSet& ps, const std::vector<MaterialSlot>& mats, double t, std::int64_t step,
                         const std::string& tag) {
     const std::string path = snap_name(rc, tag, step);
-    common::write_particle_snapshot(path, make_snapshot(ps, mats, solver.grid(), t, step), prov);
+    const common::ParticleSnapshot snap = make_snapshot(ps, mats, solver.grid(), t, step);
+    try {
+      common::check_output_particles(snap, path);  // never Inf/NaN in an output (exit 3)
+    } catch (common::NumericalError& e) {
+      std::string saved;
+      if (tag != "failed_" && solver.backup().valid) {
+        const Backup& b = solver.backup();
+        saved = snap_name(rc, "failed_", b.step);
+        common::ParticleSnapshot good = make_snapshot(b.particles, b.materials, solver.grid(), b.time, b.step);
+        common::check_output_particles(good, saved);
+        common::write_particle_snapshot(saved, good, prov);
+      }
+      spdlog::error("{}; last good state saved to {}", e.what(), saved.empty() ? "(none)" : saved);
+      e.set_saved_state(saved);
+      throw;
+    }
+    common::write_particle_snapshot(path, snap, prov);
     return path;
   };
   // Particles removed at the grid edge (grid.outflow = "remove"): all of them so far, with
@@ -137,6 +161,13 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
   write_outflow();
   series.commit();
+  rd.publish();
+  auto published = [&](const std::string& p) {
+    return (std::filesystem::path(st.run.out_dir) / std::filesystem::path(p).filename()).string();
+  };
+  sum.last_snapshot = published(sum.last_snapshot);
+  sum.series_path = published(sum.series_path);
+  spdlog::info("run complete: outputs published in {}", st.run.out_dir);
   sum.steps = solver.step_count();
   sum.time = solver.time();
   sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "common/finite.hpp"
 #include "common/status.hpp"
 
 namespace mpmfrag {
@@ -149,15 +150,18 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   common::Schema& m = s.add_table_array("material", "materials (one per [[material]])", 1);
   m.add_string("name", std::nullopt, "name referenced by bodies");
   m.add_choice("model", std::nullopt, reg.names(), "material style");
-  m.add_real("density", std::nullopt, "kg/m^3", 0.0, kBig, "reference density rho0", true);
+  m.add_real("density", std::nullopt, "kg/m^3", 0.0, common::bounds::kMaxDensity,
+             "reference density rho0 (physical bound 1e5 kg/m^3)", true);
   m.add_style_switch("model", reg.schemas());
 
   common::Schema& b = s.add_table_array("body", "bodies (one per [[body]])", 1);
   b.add_string("name", std::string(""), "label (for messages)");
   b.add_string("material", std::nullopt, "name of a [[material]]");
   b.add_choice("shape", std::nullopt, kBodyShapes, "primitive");
-  b.add_vec3("velocity", Eigen::Vector3d::Zero(), "m/s", -kBig, kBig, "initial velocity");
-  b.add_vec3("angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -kBig, kBig,
+  b.add_vec3("velocity", Eigen::Vector3d::Zero(), "m/s", -common::bounds::kMaxSpeed, common::bounds::kMaxSpeed,
+             "initial velocity (physical bound 1e7 m/s per component)");
+  b.add_vec3("angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -common::bounds::kMaxAngularVelocity,
+             common::bounds::kMaxAngularVelocity,
              "initial rigid rotation about the primitive centre");
   b.add_int("ppc", 2, 1, 8, "particles per cell per axis");
   b.add_style_switch("shape", body_shape_styles());

@@ -7,7 +7,9 @@
 #include <string_view>
 #include <type_traits>
 
+#include "common/finite.hpp"
 #include "common/h5.hpp"
+#include "common/run_identity.hpp"
 #include "common/status.hpp"
 
 namespace ssdem {
@@ -89,11 +91,13 @@ Spheres from_sphere_set(const common::SphereSet& s) {
 
 void write_snapshot(const std::string& path, const Spheres& sp, double time, std::int64_t step,
                     const common::Provenance& prov) {
-  common::write_sphere_set(path, to_sphere_set(sp, time, step), prov);
+  const common::SphereSet set = to_sphere_set(sp, time, step);
+  common::check_output_spheres(set, path);  // never Inf/NaN in an output: NumericalError (exit 3)
+  common::write_sphere_set(path, set, prov);
 }
 
 void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
-                      const common::Provenance& prov, double kn) {
+                      const common::Provenance& prov, double kn, const std::string& identity) {
   namespace h5 = common::h5;
   const std::size_t n = st.sp.size();
   auto hook = [&](long long fid) {
@@ -105,6 +109,10 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
     h5::write_attr(g, "dt", dt);
     h5::write_attr(g, "gravity_every", static_cast<std::int64_t>(gravity_every));
     h5::write_attr(g, "kn", kn);
+    if (!identity.empty()) {
+      h5::write_attr(g, "run_identity", identity);
+      h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
+    }
     auto a = flat(st.a), al = flat(st.alpha);
     h5::write_dataset(g, "a", a.data(), n, 3, "m/s^2");
     h5::write_dataset(g, "alpha", al.data(), n, 3, "rad/s^2");
@@ -139,10 +147,12 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
     h5::write_dataset(hg, "theta_r", th.data(), P, 3, "rad");
     h5::write_dataset(hg, "theta_q", q.data(), P, 1, "rad");
   };
-  common::write_sphere_set(path, to_sphere_set(st.sp, st.time, st.step), prov, hook);
+  const common::SphereSet set = to_sphere_set(st.sp, st.time, st.step);
+  common::check_output_spheres(set, path);
+  common::write_sphere_set(path, set, prov, hook);
 }
 
-SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every, double* kn) {
+SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every, double* kn, std::string* identity) {
   namespace h5 = common::h5;
   SimState st;
   bool found = false;
@@ -157,6 +167,8 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     if (dt) *dt = h5::read_attr_double(g, "dt", path);
     if (gravity_every) *gravity_every = static_cast<int>(h5::read_attr_int(g, "gravity_every", path));
     if (kn) *kn = h5::read_attr_double(g, "kn", path);
+    if (identity)
+      *identity = H5Aexists(g, "run_identity") > 0 ? h5::read_attr_string(g, "run_identity", path) : std::string();
     st.a = unflat(h5::read_doubles(f, "/ssdem_state/a", -1, 3, path));
     st.alpha = unflat(h5::read_doubles(f, "/ssdem_state/alpha", -1, 3, path));
     if (h5::exists(f, "/ssdem_state/ag")) st.ag = unflat(h5::read_doubles(f, "/ssdem_state/ag", -1, 3, path));

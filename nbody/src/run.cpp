@@ -11,6 +11,9 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/finite.hpp"
+#include "common/run_dir.hpp"
+#include "common/run_identity.hpp"
 #include "common/log.hpp"
 #include "common/series_csv.hpp"
 #include "common/status.hpp"
@@ -21,6 +24,23 @@ namespace ssdem {
 namespace {
 std::atomic<int> g_signal{0};
 extern "C" void on_signal(int sig) { g_signal.store(sig); }
+
+// Files a run of ssdem-grav writes into its output directory (for directories written before
+// run manifests existed: the previous run's files a completed run removes).
+bool is_output(const std::string& n) {
+  std::string h5 = n;
+  if (n.size() > 4 && n.compare(n.size() - 4, 4, ".xmf") == 0) h5 = n.substr(0, n.size() - 4) + ".h5";
+  return h5 == "checkpoint.h5" || h5 == "failed_state.h5" || n == "series.csv" || n == "series.csv.partial" ||
+         n == "run_info.txt" || (h5.rfind("snap_", 0) == 0 && h5.size() > 3 && h5.compare(h5.size() - 3, 3, ".h5") == 0);
+}
+// The step of a snapshot file name snap_<step>.h5 / .xmf, or -1.
+std::int64_t snap_step(const std::string& n) {
+  long long s = -1;
+  char ext[8] = {0};
+  if (std::sscanf(n.c_str(), "snap_%lld.%3s", &s, ext) == 2 && (std::string(ext) == "h5" || std::string(ext) == "xmf"))
+    return s;
+  return -1;
+}
 
 std::string snap_name(const std::string& dir, std::int64_t step) {
   char buf[64];
@@ -53,10 +73,16 @@ common::SeriesFormat series_format() {
 }  // namespace
 
 int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
-  const std::string dir = sc.string("output.directory");
-  std::error_code ec;
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw common::IoError(dir + ": cannot create output directory: " + ec.message());
+  // Identity of this run, recorded in its checkpoints: --restart refuses another run's. Keys a
+  // restart may change: time.end and every output.* key.
+  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file"});
+  // The run locks output.directory and writes into a staging directory published when it
+  // completes (common/run_dir.hpp); a restart continues in the staging directory of the
+  // interrupted run whose checkpoint it reads, if the checkpoint lies in one.
+  const std::string out_dir = sc.string("output.directory");
+  common::RunDirectory rd(out_dir, "ssdem-grav", is_output,
+                          restart.empty() ? std::string() : common::RunDirectory::staging_of(out_dir, restart));
+  const std::string dir = rd.staging();
 
   std::unique_ptr<Simulation> sim;
   std::string info;
@@ -67,7 +93,27 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   } else {
     double dt0 = 0, kn0 = 0;
     int every0 = 0;
-    SimState st = read_checkpoint(restart, &dt0, &every0, &kn0);
+    std::string ck_ident;
+    SimState st = read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
+    if (ck_ident.empty()) {
+      spdlog::warn("restart: {} records no run identity (written by an older version); cannot check that it "
+                   "belongs to this scene", restart);
+    } else {
+      const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
+      const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
+      if (!diff.empty())
+        throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
+                                 ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
+    }
+    if (common::RunDirectory::staging_of(out_dir, restart).empty()) {
+      // continuing a published run: its series and snapshots up to the checkpoint become part of this one
+      rd.carry("series.csv");
+      for (const auto& e : std::filesystem::directory_iterator(out_dir)) {
+        const std::string n = e.path().filename().string();
+        const std::int64_t s = snap_step(n);
+        if (s >= 0 && s <= st.step) rd.carry(n);
+      }
+    }
     SimConfig cfg = sim_config(sc, st.sp, &info);
     if (cfg.contacts && kn0 > 0.0 && cfg.contact.kn != kn0) {
       if (sc.given("contact.normal.kn"))
@@ -125,6 +171,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   auto write_row = [&]() {
     const Diagnostics d = sim->diagnostics();
+    const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
+    common::require_finite(e, 6, series_path, "energies at step " + std::to_string(sim->step_count()));
     if (std::isnan(E0)) E0 = d.total();
     common::SeriesRow row = series_file.row();
     row.integer(sim->step_count()).num(sim->time()).num(d.kinetic).num(d.rotational);
@@ -137,7 +185,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
   };
   auto checkpoint = [&]() {
-    write_checkpoint(ckpt_path, sim->state(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn);
+    write_checkpoint(ckpt_path, sim->state(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn, ident.text());
     spdlog::info("checkpoint at step {} -> {}", sim->step_count(), ckpt_path);
   };
   double next_snap = snap_dt > 0 ? (std::floor(sim->time() / snap_dt + 1e-9) + 1) * snap_dt : INFINITY;
@@ -193,7 +241,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   } catch (common::NumericalError& e) {
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
     if (sim->last_good()) {
-      write_checkpoint(failed, *sim->last_good(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn);
+      write_checkpoint(failed, *sim->last_good(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn, ident.text());
       spdlog::error("{}; last good state (step {}) saved to {}", e.what(), sim->last_good()->step, failed);
     } else {
       write_snapshot(failed, sim->spheres(), sim->time(), sim->step_count(), prov);
@@ -205,6 +253,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   }
   checkpoint();
   series_file.commit();
+  rd.publish();
+  spdlog::info("run complete: outputs published in {}", out_dir);
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
   const PhaseTimes& t = sim->times();
   spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f} ({} rebuilds), "

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/finite.hpp"
 #include "common/rng.hpp"
 #include "common/sphere_file.hpp"
 #include "common/status.hpp"
@@ -48,6 +49,8 @@ const ContactPartRegistry& builtin_contact_parts() {
 common::Schema ssdem_schema() {
   common::Schema s("ssdem-grav: self-gravity + soft-sphere DEM");
   const double inf = INFINITY;
+  // physical bounds (common/finite.hpp): every derived quantity stays finite
+  const double kLen = common::bounds::kMaxLength, kV = common::bounds::kMaxSpeed;
   // time
   s.add_real("time.end", std::nullopt, "s", 0.0, inf, "simulated end time", true);
   s.add_real("time.dt", 0.0, "s", 0.0, inf,
@@ -60,18 +63,22 @@ common::Schema ssdem_schema() {
   s.add_choice("initial.source", InitialSource::lattice_pile, kInitialSources,
                "initial condition: an ssdem.spheres file or a generator");
   s.add_string("initial.file", std::string(""), "ssdem.spheres input file (initial.source = file)");
-  s.add_real("initial.body_radius", 10.0, "m", 0.0, inf, "radius of the (first) body", true);
-  s.add_real("initial.sphere_radius", 1.0, "m", 0.0, inf, "sphere radius of generated bodies", true);
-  s.add_real("initial.density", 2000.0, "kg/m^3", 0.0, inf, "grain (sphere material) density", true);
+  s.add_real("initial.body_radius", 10.0, "m", 0.0, kLen,
+             "radius of the (first) body (generated spheres: about 0.74 (body_radius / sphere_radius)^3, at most 1e8)", true);
+  s.add_real("initial.sphere_radius", 1.0, "m", 0.0, kLen, "sphere radius of generated bodies", true);
+  s.add_real("initial.density", 2000.0, "kg/m^3", 0.0, common::bounds::kMaxDensity,
+             "grain (sphere material) density (physical bound: masses and energies stay finite)", true);
   s.add_real("initial.jitter", 0.0, "1", 0.0, 0.5, "relative random shrink of generated radii");
   s.add_int("initial.count", 1000, 1, 100000000, "number of spheres (random_pile)");
-  s.add_vec3("initial.velocity", Eigen::Vector3d::Zero(), "m/s", -inf, inf, "bulk velocity of body 1");
-  s.add_vec3("initial.angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -inf, inf,
+  s.add_vec3("initial.velocity", Eigen::Vector3d::Zero(), "m/s", -kV, kV,
+             "bulk velocity of body 1 (|v| + |w| body_radius <= 1e7 m/s)");
+  s.add_vec3("initial.angular_velocity", Eigen::Vector3d::Zero(), "rad/s", -common::bounds::kMaxAngularVelocity,
+             common::bounds::kMaxAngularVelocity,
              "rigid rotation of body 1 about its centre");
-  s.add_real("initial.body2_radius", 5.0, "m", 0.0, inf, "radius of body 2 (two_bodies)", true);
-  s.add_vec3("initial.body2_offset", Eigen::Vector3d(30, 0, 0), "m", -inf, inf,
+  s.add_real("initial.body2_radius", 5.0, "m", 0.0, kLen, "radius of body 2 (two_bodies)", true);
+  s.add_vec3("initial.body2_offset", Eigen::Vector3d(30, 0, 0), "m", -kLen, kLen,
              "centre of body 2 relative to body 1 (two_bodies)");
-  s.add_vec3("initial.body2_velocity", Eigen::Vector3d(-1, 0, 0), "m/s", -inf, inf,
+  s.add_vec3("initial.body2_velocity", Eigen::Vector3d(-1, 0, 0), "m/s", -kV, kV,
              "velocity of body 2 (two_bodies)");
   // gravity
   s.add_bool("gravity.self", true, "self-gravity on/off (off: no tree is built)");
@@ -129,13 +136,23 @@ common::Schema ssdem_schema() {
   return s;
 }
 
+namespace {
+std::string fmt_g(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+}  // namespace
+
 Spheres initial_spheres(const common::Scene& sc) {
   const InitialSource src = sc.choice("initial.source", kInitialSources);
   Spheres sp;
   if (src == InitialSource::file) {
     const std::string f = sc.string("initial.file");
     if (f.empty()) throw common::InputError(sc.where("initial.file") + ": required for source = file");
-    sp = from_sphere_set(common::read_sphere_set(f));
+    const common::SphereSet in = common::read_sphere_set(f);
+    common::check_input_spheres(in, f);
+    sp = from_sphere_set(in);
     if (sp.size() == 0) throw common::InputError(f + ": no spheres");
     return sp;
   }
@@ -143,6 +160,24 @@ Spheres initial_spheres(const common::Scene& sc) {
   const double rho = sc.real("initial.density"), jit = sc.real("initial.jitter");
   const auto seed = static_cast<std::uint64_t>(sc.integer("run.seed"));
   if (s > R) throw common::InputError(sc.where("initial.sphere_radius") + ": larger than the body radius");
+  {
+    // Estimate the generator's sphere count before generating (FCC packing 0.74 of each body's
+    // volume) and refuse more than bounds::kMaxGeneratedSpheres.
+    const double R2 = src == InitialSource::two_bodies ? sc.real("initial.body2_radius") : 0.0;
+    const double est = src == InitialSource::random_pile
+                           ? static_cast<double>(sc.integer("initial.count"))
+                           : 0.7405 * (std::pow(R / s, 3) + std::pow(R2 / s, 3));
+    if (!(est <= common::bounds::kMaxGeneratedSpheres))
+      throw common::InputError(sc.where("initial.body_radius") + ", " + sc.where("initial.sphere_radius") +
+                               (R2 > 0 ? ", " + sc.where("initial.body2_radius") : std::string()) +
+                               ": the generator would create about " + fmt_g(est) + " spheres; at most " +
+                               fmt_g(common::bounds::kMaxGeneratedSpheres) + " are allowed (raise initial.sphere_radius or lower the body radius)");
+    const Vec3 v0 = sc.vec3("initial.velocity"), w0 = sc.vec3("initial.angular_velocity");
+    if (!(v0.norm() + w0.norm() * R <= common::bounds::kMaxSpeed))
+      throw common::InputError(sc.where("initial.velocity") + ", " + sc.where("initial.angular_velocity") +
+                               ": surface speed |v| + |w| body_radius = " + fmt_g(v0.norm() + w0.norm() * R) +
+                               " m/s exceeds the allowed maximum 1e7 m/s");
+  }
   if (src == InitialSource::random_pile)
     sp = random_cloud(static_cast<std::size_t>(sc.integer("initial.count")), R, s, rho, seed);
   else

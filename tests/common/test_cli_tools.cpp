@@ -1,8 +1,9 @@
 // The command-line contract as a user meets it, on the real executables (ssdem-grav, mpm-frag):
 // exit code 2 and a message naming the file and dataset for malformed sphere input,
 // --version / --help-params / --print-scene, and time-series CSVs that a failed rerun never
-// destroys (rows go to <series>.partial and are renamed into place when the run ends, stops on
-// a numerical failure or on a signal; a --restart continues the series, also after a crash);
+// destroys (a run writes into <dir>/.staging-<pid>, rows to <series>.partial renamed into place
+// when the run ends, stops on a numerical failure or on a signal, and publishes into <dir> only
+// when it completes; a --restart continues the series, also after a crash);
 // renamed scene keys still read (with a warning) under their old names.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
@@ -62,6 +63,11 @@ std::vector<std::string> lines_of(const std::string& path) {
   std::ifstream f(path);
   for (std::string l; std::getline(f, l);) v.push_back(l);
   return v;
+}
+/// The staging directory a run that did not complete names in its log ("... partial output is in <dir>").
+std::string staging_in_log(const std::string& out) {
+  std::smatch m;
+  return std::regex_search(out, m, std::regex("partial output is in (\\S+)")) ? m[1].str() : std::string();
 }
 /// A series row without its last column (wall_s, the only one that differs between runs).
 std::string without_wall(const std::string& row) { return row.substr(0, row.rfind(',')); }
@@ -226,7 +232,8 @@ TEST(CliTools, HelpParamsListsKeysWithTypeDefaultUnitAndRange) {
   EXPECT_NE(r.out.find("time.end  (real)  REQUIRED  [s]\n    range: (0, inf]\n"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("time.min_steps_per_contact  (real)  default 10  [1]\n    range: [1, 1000000]\n"),
             std::string::npos);
-  EXPECT_NE(r.out.find("initial.density  (real)  default 2000  [kg/m^3]\n    range: (0, inf]\n"), std::string::npos);
+  // physical bounds that keep every derived quantity finite (common/finite.hpp)
+  EXPECT_NE(r.out.find("initial.density  (real)  default 2000  [kg/m^3]\n    range: (0, 100000]\n"), std::string::npos);
   EXPECT_NE(r.out.find("initial.source  (choice)  default \"lattice_pile\"\n    one of: file lattice_pile "
                        "random_pile two_bodies\n"),
             std::string::npos);
@@ -273,15 +280,18 @@ TEST(CliTools, SsdemGravSeriesSurvivesFailedRerun) {
   ASSERT_GE(lines_of(series).size(), 5u);
   EXPECT_FALSE(fs::exists(series + ".partial"));
 
-  // Rerun that fails with exit 4 after writing its first row: the t = 0 snapshot cannot be
-  // renamed into place (a directory has its name).
+  // Rerun that fails with exit 4 when it publishes its output: the t = 0 snapshot cannot be
+  // renamed into place (a directory has its name); nothing of it reaches the directory.
   fs::remove(out + "/snap_000000000.h5");
   fs::create_directory(out + "/snap_000000000.h5");
-  const Result r4 = grav("--quiet --scene " + scene);
+  const Result r4 = grav("--scene " + scene);
   EXPECT_EQ(r4.rc, 4) << r4.out;
   EXPECT_EQ(slurp(series), before);
-  // the failed run's own rows are kept aside, not under the final name
-  EXPECT_EQ(lines_of(series + ".partial").size(), 2u);
+  EXPECT_FALSE(fs::exists(series + ".partial"));
+  // the failed run's own series is kept aside, in its staging directory
+  const std::string staged = staging_in_log(r4.out);
+  ASSERT_FALSE(staged.empty()) << r4.out;
+  EXPECT_EQ(lines_of(staged + "/series.csv").size(), lines_of(series).size());
 
   // Rerun that fails with exit 2 (unresolvable dt).
   EXPECT_EQ(grav("--quiet --scene " + scene + " --set time.dt=0.07 --set contact.normal.kn=1e6").rc, 2);
@@ -298,16 +308,21 @@ TEST(CliTools, SsdemGravExit3CommitsTheSeriesUpToTheFailure) {
   const Result r = grav("--scene " + scene + " --set time.end=3.0 --set output.series_every=1");
   ASSERT_EQ(r.rc, 3) << r.out;
   EXPECT_NE(r.out.find("last good state (step "), std::string::npos) << r.out;
-  // The failed run's series, up to the failure, is the one kept under the final name.
-  EXPECT_FALSE(fs::exists(d.file("out/series.csv.partial")));
-  const auto rows = lines_of(d.file("out/series.csv"));
-  ASSERT_GE(rows.size(), 4u) << slurp(d.file("out/series.csv"));
+  // The earlier run's series stays; the failed run's series, up to the failure, is committed
+  // in its staging directory next to the saved state, which the log names.
+  EXPECT_EQ(slurp(d.file("out/series.csv")), "step,time_s\n0,0\n");
+  const std::string staged = staging_in_log(r.out);
+  ASSERT_FALSE(staged.empty()) << r.out;
+  EXPECT_FALSE(fs::exists(staged + "/series.csv.partial"));
+  const auto rows = lines_of(staged + "/series.csv");
+  ASSERT_GE(rows.size(), 4u) << slurp(staged + "/series.csv");
   EXPECT_EQ(rows[0].rfind("step,time_s,kinetic_J,", 0), 0u);
   // one row per step from 0 (series_every = 1, gravity off), kinetic energy 2 * 1000 * 25^2 / 2
   for (std::size_t i = 1; i < rows.size(); ++i) EXPECT_EQ(std::atoll(rows[i].c_str()), static_cast<long long>(i - 1));
   EXPECT_EQ(rows[1].rfind("0,0,625000,", 0), 0u) << rows[1];
   // the last row is at or after the saved last good state, and before the failing step
-  const SphereSet good = read_sphere_set(d.file("out/failed_state.h5"));
+  EXPECT_FALSE(fs::exists(d.file("out/failed_state.h5")));
+  const SphereSet good = read_sphere_set(staged + "/failed_state.h5");
   EXPECT_GE(std::atoll(rows.back().c_str()), good.step);
 }
 
@@ -362,24 +377,28 @@ TEST(CliTools, SsdemGravSigtermCommitsSeriesAndRestartContinuesIt) {
   // Runs for hours unless signalled; signalled once it has 6 rows in its partial series.
   const pid_t pid = spawn_grav(scene, {"time.end=1e7"});
   ASSERT_GT(pid, 0);
-  const bool started = wait_for([&] { return lines_of(out + "/series.csv.partial").size() >= 6; });
+  // The run writes into its staging directory <out>/.staging-<pid> until it completes.
+  const std::string staged = out + "/.staging-" + std::to_string(pid);
+  const bool started = wait_for([&] { return lines_of(staged + "/series.csv.partial").size() >= 6; });
   kill(pid, SIGTERM);
   int status = 0;
   waitpid(pid, &status, 0);
   ASSERT_TRUE(started);
   ASSERT_TRUE(WIFEXITED(status));
   ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
-  EXPECT_FALSE(fs::exists(out + "/series.csv.partial"));
-  const auto interrupted = lines_of(out + "/series.csv");
+  EXPECT_FALSE(fs::exists(staged + "/series.csv.partial"));
+  EXPECT_FALSE(fs::exists(out + "/series.csv"));  // nothing published
+  const auto interrupted = lines_of(staged + "/series.csv");
   ASSERT_GE(interrupted.size(), 6u);
-  const auto [t_ck, s_ck] = checkpoint_time(out + "/checkpoint.h5");
+  const auto [t_ck, s_ck] = checkpoint_time(staged + "/checkpoint.h5");
   EXPECT_GE(s_ck, std::atoll(interrupted.back().c_str()));
 
   const double t_end = t_ck + 20.0;
   std::ostringstream te;
   te.precision(17);
   te << "time.end=" << t_end;
-  ASSERT_EQ(grav("--quiet --scene " + scene + " --set " + te.str() + " --restart " + out + "/checkpoint.h5").rc, 0);
+  ASSERT_EQ(grav("--quiet --scene " + scene + " --set " + te.str() + " --restart " + staged + "/checkpoint.h5").rc, 0);
+  EXPECT_FALSE(fs::exists(staged));  // published
   const auto continued = lines_of(out + "/series.csv");
   EXPECT_GT(continued.size(), interrupted.size());
   for (std::size_t i = 0; i < interrupted.size(); ++i) EXPECT_EQ(continued[i], interrupted[i]) << "row " << i;
@@ -395,8 +414,9 @@ TEST(CliTools, SsdemGravRestartAfterCrashContinuesThePartialSeries) {
   std::ofstream(out + "/series.csv") << "step,time_s\n0,0\n999999,1\n";
   const pid_t pid = spawn_grav(scene, {"time.end=1e7"});
   ASSERT_GT(pid, 0);
+  const std::string staged = out + "/.staging-" + std::to_string(pid);
   const bool started = wait_for([&] {
-    return fs::exists(out + "/checkpoint.h5") && lines_of(out + "/series.csv.partial").size() >= 8;
+    return fs::exists(staged + "/checkpoint.h5") && lines_of(staged + "/series.csv.partial").size() >= 8;
   });
   kill(pid, SIGKILL);  // no chance to commit anything
   int status = 0;
@@ -404,14 +424,14 @@ TEST(CliTools, SsdemGravRestartAfterCrashContinuesThePartialSeries) {
   ASSERT_TRUE(started);
   ASSERT_TRUE(WIFSIGNALED(status));
   EXPECT_EQ(slurp(out + "/series.csv"), "step,time_s\n0,0\n999999,1\n");  // untouched by the crash
-  const auto [t_ck, s_ck] = checkpoint_time(out + "/checkpoint.h5");
+  const auto [t_ck, s_ck] = checkpoint_time(staged + "/checkpoint.h5");
   ASSERT_GT(s_ck, 0);
 
   const double t_end = t_ck + 20.0;
   std::ostringstream te;
   te.precision(17);
   te << "time.end=" << t_end;
-  ASSERT_EQ(grav("--quiet --scene " + scene + " --set " + te.str() + " --restart " + out + "/checkpoint.h5").rc, 0);
+  ASSERT_EQ(grav("--quiet --scene " + scene + " --set " + te.str() + " --restart " + staged + "/checkpoint.h5").rc, 0);
   EXPECT_FALSE(fs::exists(out + "/series.csv.partial"));
   expect_same_series(d, scene, t_end, lines_of(out + "/series.csv"));
 }
@@ -435,20 +455,26 @@ TEST(CliTools, MpmFragSeriesSurvivesFailedRerunAndExit3CommitsIt) {
   EXPECT_EQ(rows[0].rfind("step,time_s,dt_s,", 0), 0u);
   EXPECT_FALSE(fs::exists(series + ".partial"));
 
-  // Rerun failing with exit 4 after its first row: the t = 0 snapshot name is a directory.
+  // Rerun failing with exit 4 when it publishes: the t = 0 snapshot name is a directory.
   fs::remove(out + "/edge_000000.h5");
   fs::create_directory(out + "/edge_000000.h5");
-  const Result r4 = mpm("--quiet --scene " + scene);
+  const Result r4 = mpm("--scene " + scene);
   EXPECT_EQ(r4.rc, 4) << r4.out;
   EXPECT_EQ(slurp(series), before);
-  EXPECT_EQ(lines_of(series + ".partial").size(), 2u);  // header + t = 0, aside
+  EXPECT_FALSE(fs::exists(series + ".partial"));
+  ASSERT_FALSE(staging_in_log(r4.out).empty()) << r4.out;
+  EXPECT_EQ(lines_of(staging_in_log(r4.out) + "/edge_series.csv").size(), rows.size());  // aside
   fs::remove(out + "/edge_000000.h5");
 
-  // A run to t = 1 s leaves the grid (exit 3): its series up to the failure replaces the old one.
-  const Result r3 = mpm("--quiet --scene " + scene + " --set time.end=1.0");
+  // A run to t = 1 s leaves the grid (exit 3): the earlier series stays; the failed run's,
+  // up to the failure, is committed in its staging directory.
+  const Result r3 = mpm("--scene " + scene + " --set time.end=1.0");
   ASSERT_EQ(r3.rc, 3) << r3.out;
-  EXPECT_FALSE(fs::exists(series + ".partial"));
-  const auto failed = lines_of(series);
+  EXPECT_EQ(slurp(series), before);
+  const std::string staged = staging_in_log(r3.out);
+  ASSERT_FALSE(staged.empty()) << r3.out;
+  EXPECT_FALSE(fs::exists(staged + "/edge_series.csv.partial"));
+  const auto failed = lines_of(staged + "/edge_series.csv");
   EXPECT_GT(failed.size(), rows.size());
   EXPECT_EQ(failed[0], rows[0]);
   EXPECT_GT(std::atof(failed.back().c_str() + failed.back().find(',') + 1), 5e-4);  // time past the first run's end

@@ -64,6 +64,16 @@ std::string write_scene(const std::string& dir) {
   std::ofstream(p) << kScene;
   return p;
 }
+/// The staging directory a run that did not complete left in `dir` (the only one).
+std::string only_staging(const std::string& dir) {
+  std::string found;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_directory() && e.path().filename().string().rfind(".staging-", 0) == 0) {
+      EXPECT_TRUE(found.empty()) << "more than one staging directory in " << dir;
+      found = e.path().string();
+    }
+  return found;
+}
 common::SphereSet last_snapshot(const std::string& dir) {
   std::string best;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -125,8 +135,10 @@ TEST(App, SigtermWritesCheckpointAndRestartMatches) {
   }
   auto rows = [&]() {
     int best = 0;
-    for (const char* name : {"/part/series.csv", "/part/series.csv.partial"}) {
-      std::ifstream f(d + name);
+    // the run writes into its staging directory until it completes
+    const std::string st = d + "/part/.staging-" + std::to_string(pid);
+    for (const char* name : {"/series.csv", "/series.csv.partial"}) {
+      std::ifstream f(st + name);
       std::string l;
       int n = 0;
       while (std::getline(f, l)) ++n;
@@ -153,15 +165,18 @@ TEST(App, SigtermWritesCheckpointAndRestartMatches) {
   waitpid(pid, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   ASSERT_EQ(WEXITSTATUS(status), 128 + SIGTERM) << "the signal must land mid-run";
-  ASSERT_TRUE(fs::exists(d + "/part/checkpoint.h5"));
-  const SimState st = read_checkpoint(d + "/part/checkpoint.h5");
+  // the interrupted run's checkpoint is in its staging directory (part/ holds no run yet)
+  const std::string ckpt = d + "/part/.staging-" + std::to_string(pid) + "/checkpoint.h5";
+  ASSERT_TRUE(fs::exists(ckpt));
+  EXPECT_FALSE(fs::exists(d + "/part/checkpoint.h5"));
+  const SimState st = read_checkpoint(ckpt);
   EXPECT_GE(st.step, 300);
   EXPECT_GT(st.history.size(), st.sp.size());  // contact history really was carried
   char tend[64];
   std::snprintf(tend, sizeof tend, "%.17g", st.time + 30.0);
   const std::string args = "--scene " + scene + " --set time.end=" + tend + " --set output.directory=";
   ASSERT_EQ(run_cmd(args + "\\\"" + d + "/full\\\""), 0);
-  ASSERT_EQ(run_cmd(args + "\\\"" + d + "/part\\\" --restart " + d + "/part/checkpoint.h5"), 0);
+  ASSERT_EQ(run_cmd(args + "\\\"" + d + "/part\\\" --restart " + ckpt), 0);
   const auto a = last_snapshot(d + "/full"), b = last_snapshot(d + "/part");
   std::printf("SIGTERM at step %lld (t = %.1f s), both runs end at step %lld\n",
               static_cast<long long>(st.step), st.time, static_cast<long long>(a.step));
@@ -192,8 +207,11 @@ TEST(App, RunawayOverlapStopsWithExit3AndSavesState) {
                                << "/in.h5\"\n[gravity]\nself = false\n[contact]\nnormal.kn = 1e3\n"
                                << "[output]\ndirectory = \"" << d << "/o\"\n";
   EXPECT_EQ(run_cmd("--scene " + d + "/s.toml"), 3);
-  ASSERT_TRUE(fs::exists(d + "/o/failed_state.h5"));
-  const SimState st = read_checkpoint(d + "/o/failed_state.h5");
+  // the failed run's last good state is in its staging directory (o/ keeps the previous run)
+  const std::string failed = only_staging(d + "/o") + "/failed_state.h5";
+  ASSERT_TRUE(fs::exists(failed));
+  EXPECT_FALSE(fs::exists(d + "/o/failed_state.h5"));
+  const SimState st = read_checkpoint(failed);
   EXPECT_EQ(st.sp.size(), 2u);
   const double gap = (st.sp.x[1] - st.sp.x[0]).norm() - 2.0;
   EXPECT_GT(gap, -1.0);  // the saved state is a good one (overlap below the radius)

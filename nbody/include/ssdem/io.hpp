@@ -32,9 +32,12 @@ void write_snapshot(const std::string& path, const Spheres& sp, double time, std
 /// `kn` is the resolved normal stiffness (the k_n rule depends on the state, so a restart must
 /// reuse the value the run started with).
 void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
-                      const common::Provenance& prov, double kn = 0.0);
-/// Read a checkpoint; `dt`, `gravity_every` and `kn` return the values it was written with.
+                      const common::Provenance& prov, double kn = 0.0, const std::string& identity = {});
+/// `identity`: the run's identity (common::RunIdentity::text()), stored as the attributes
+/// /ssdem_state/run_identity and run_identity_digest ("" = not recorded).
+/// Read a checkpoint; `dt`, `gravity_every` and `kn` return the values it was written with,
+/// `identity` the recorded run identity text ("" for a checkpoint written without one).
 SimState read_checkpoint(const std::string& path, double* dt = nullptr, int* gravity_every = nullptr,
-                         double* kn = nullptr);
+                         double* kn = nullptr, std::string* identity = nullptr);
 
 }  // namespace ssdem

@@ -4,7 +4,7 @@
 /// SIGTERM/SIGINT), and on a numerical failure saves the last good state and throws
 /// common::NumericalError (exit code 3).
 ///
-/// Outputs in output.directory: snap_<step>.h5 (+ .xmf), series.csv, checkpoint.h5,
+/// Outputs in output.directory (written in <dir>/.staging-<pid>, published on success: common/run_dir.hpp): snap_<step>.h5 (+ .xmf), series.csv, checkpoint.h5,
 /// failed_state.h5 (only after a failure), run_info.txt (choices made by the dt rule).
 /// Interrupted by SIGTERM/SIGINT: checkpoint written, exit code 128 + signal number.
 #pragma once
