@@ -58,6 +58,7 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
   read_header(f, path, kSphereFormat, kSphereFormatVersion, s.time, s.step);
   h5::Handle g = h5::open_group(f, "spheres", path);
   s.id = h5::read_u64(f, "/spheres/id", -1, 1, path);
+  check_unique_ids(path, "/spheres/id", s.id);
   const auto n = static_cast<long long>(s.id.size());
   s.position = h5::read_doubles(f, "/spheres/position", n, 3, path);
   s.velocity = h5::read_doubles(f, "/spheres/velocity", n, 3, path);
