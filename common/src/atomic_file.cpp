@@ -35,9 +35,10 @@ std::string make_temp_name(const std::string& final_path) {
 void check_output_path(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) == 0) {
-    if (!S_ISREG(st.st_mode))
+    // A directory is left to rename(2), which fails without harm (IoError, exit 4).
+    if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
       throw InputError(path, "", std::string("output exists and is not a regular file (") +
-                                     (S_ISDIR(st.st_mode) ? "a directory" : S_ISFIFO(st.st_mode) ? "a FIFO"
+                                     (S_ISFIFO(st.st_mode) ? "a FIFO"
                                       : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device" : "a socket") +
                                      "): refusing to replace it");
     return;
