@@ -1,12 +1,16 @@
 #include "common/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <limits.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <functional>
+#include <system_error>
 
 #include "common/status.hpp"
 
@@ -20,7 +24,33 @@ std::string make_temp_name(const std::string& final_path) {
   name += p.filename().string();
   name += ".tmp.";
   name += std::to_string(::getpid());
+  // A final name near NAME_MAX: the decorated name would not fit; hash it instead.
+  if (name.size() > NAME_MAX)
+    name = ".tmp." + std::to_string(std::hash<std::string>{}(p.filename().string())) + "." + std::to_string(::getpid());
   return (p.parent_path() / name).string();
+}
+
+}  // namespace
+
+void check_output_path(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) == 0) {
+    // A directory is left to rename(2), which fails without harm (IoError, exit 4).
+    if (!S_ISREG(st.st_mode) && !S_ISDIR(st.st_mode))
+      throw InputError(path, "", std::string("output exists and is not a regular file (") +
+                                     (S_ISFIFO(st.st_mode) ? "a FIFO"
+                                      : S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device" : "a socket") +
+                                     "): refusing to replace it");
+    return;
+  }
+  if (errno == ENAMETOOLONG || errno == ENOTDIR || errno == ELOOP)
+    throw IoError(path + ": cannot create: " + std::strerror(errno));
+}
+
+namespace {
+bool dir_exists(const std::filesystem::path& dir) {
+  std::error_code ec;  // ENAMETOOLONG etc. were reported by check_output_path
+  return std::filesystem::is_directory(dir, ec);
 }
 
 void fsync_path(const std::string& path) {
@@ -35,8 +65,9 @@ void fsync_path(const std::string& path) {
 
 AtomicPath::AtomicPath(std::string final_path)
     : final_(std::move(final_path)), temp_(make_temp_name(final_)) {
+  check_output_path(final_);
   const auto dir = std::filesystem::path(final_).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir))
+  if (!dir.empty() && !dir_exists(dir))
     throw IoError(final_ + ": output directory '" + dir.string() + "' does not exist");
 }
 
@@ -64,8 +95,10 @@ void write_text_atomic(const std::string& path, const std::string& text) {
 
 PartialFile::PartialFile(std::string final_path)
     : final_(std::move(final_path)), partial_(partial_name(final_)) {
+  check_output_path(final_);
+  check_output_path(partial_);
   const auto dir = std::filesystem::path(final_).parent_path();
-  if (!dir.empty() && !std::filesystem::is_directory(dir))
+  if (!dir.empty() && !dir_exists(dir))
     throw IoError(final_ + ": output directory '" + dir.string() + "' does not exist");
   out_.open(partial_, std::ios::out | std::ios::trunc);
   if (!out_) throw IoError(partial_ + ": cannot create: " + std::strerror(errno));

@@ -2,7 +2,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <cerrno>
+#include <filesystem>
 #include <iostream>
+#include <new>
 
 #include "common/h5.hpp"
 #include "common/log.hpp"
@@ -86,6 +89,19 @@ int ToolApp::run(int argc, char** argv, const Body& body) {
     return to_int(ExitCode::numerical);
   } catch (const IoError& e) {
     spdlog::error("I/O failure: {}", e.what());
+    return to_int(ExitCode::io_failure);
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A path the OS refuses. One that can never name a file (a component over NAME_MAX, a file
+    // used as a directory, missing) is bad input (2); anything else (permission, read-only or
+    // full file system) an I/O failure (4).
+    const int c = e.code().value();
+    const bool bad = e.code().category() == std::generic_category() || e.code().category() == std::system_category()
+                         ? (c == ENAMETOOLONG || c == ENOTDIR || c == ENOENT || c == ELOOP || c == EINVAL)
+                         : false;
+    spdlog::error("{}{}: {}", bad ? "" : "I/O failure: ", e.path1().string(), e.code().message());
+    return to_int(bad ? ExitCode::bad_input : ExitCode::io_failure);
+  } catch (const std::bad_alloc&) {
+    spdlog::error("out of memory: the input is too large for this machine (or the memory limit is too low)");
     return to_int(ExitCode::io_failure);
   } catch (const std::exception& e) {
     spdlog::critical("internal error (please report): {}", e.what());

@@ -1,7 +1,11 @@
 // Internal: shared machinery for the two item-file kinds (particles, spheres).
 #pragma once
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/field.hpp"
@@ -28,6 +32,25 @@ inline void check_values(const std::string& file, const std::string& path,
       throw InputError(file, path, "non-positive value " + std::to_string(v[i]) + " at row " +
                                        std::to_string(i / ncomp) + " (must be > 0)");
   }
+}
+
+/// Ids key the random streams, the hand-off map and the messages: each must appear once.
+/// InputError naming the first row whose id already appeared above it. O(n) for the writers'
+/// increasing ids, O(n log n) otherwise.
+inline void check_unique_ids(const std::string& file, const std::string& path, const std::vector<std::uint64_t>& id) {
+  if (std::adjacent_find(id.begin(), id.end(), std::greater_equal<>()) == id.end()) return;
+  std::vector<std::pair<std::uint64_t, std::size_t>> v(id.size());
+  for (std::size_t i = 0; i < id.size(); ++i) v[i] = {id[i], i};
+  std::sort(v.begin(), v.end());
+  std::size_t best = id.size(), first = 0;
+  for (std::size_t i = 1; i < v.size(); ++i)  // in a run of equal ids, the 2nd row is the first repeat
+    if (v[i].first == v[i - 1].first && (i < 2 || v[i - 2].first != v[i].first) && v[i].second < best) {
+      best = v[i].second;
+      first = v[i - 1].second;
+    }
+  if (best == id.size()) return;
+  throw InputError(file, path, "duplicate id " + std::to_string(id[best]) + " at rows " + std::to_string(first) +
+                                   " and " + std::to_string(best) + " (ids must be unique)");
 }
 
 /// Root attributes and format check shared by both kinds.
@@ -71,7 +94,9 @@ inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t 
   }
 }
 
-/// Read every float64 dataset of `g` not in `skip` as an optional field.
+/// Every member of `g` not in `skip` must be a float64 dataset of shape (n,) or (n, k>=2): it is
+/// read as an optional field. Anything else (another dtype, a group, a wrong shape) is an
+/// InputError naming the dataset: the whole group is checked against the contract.
 std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const std::string& file,
                                std::size_t n, const std::vector<std::string>& skip);
 

@@ -22,13 +22,17 @@ std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const
   H5Literate(g, H5_INDEX_NAME, H5_ITER_INC, nullptr, collect, &names);
   for (const auto& nm : names) {
     if (std::find(skip.begin(), skip.end(), nm) != skip.end()) continue;
-    h5::Handle ds(H5Dopen2(g, nm.c_str(), H5P_DEFAULT));
-    if (!ds.valid()) continue;  // a sub-group, not a dataset
-    h5::Handle type(H5Dget_type(ds));
-    if (H5Tget_class(type) != H5T_FLOAT) continue;  // only float64 state fields are fields
     const std::string full = group + "/" + nm;
+    H5O_info_t info;
+    if (H5Oget_info_by_name2(g, nm.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT) < 0 || info.type != H5O_TYPE_DATASET)
+      throw InputError(file, full, "not a dataset: " + group + " holds only datasets");
+    h5::Handle ds(H5Dopen2(g, nm.c_str(), H5P_DEFAULT));
+    if (!ds.valid()) throw InputError(file, full, "cannot open dataset (corrupt file?)");
+    h5::Handle type(H5Dget_type(ds));
+    if (!(H5Tget_class(type) == H5T_FLOAT && H5Tget_size(type) == 8))
+      throw InputError(file, full, "wrong dtype: extra datasets (fields) must be float64");
     const auto d = h5::shape(f, full, file);
-    const std::size_t ncomp = d.size() == 2 ? d[1] : 1;
+    const std::size_t ncomp = d.size() == 2 && d[1] >= 2 ? d[1] : 1;  // (n, 1), (n, 0): refused below
     Field fl;
     fl.name = nm;
     fl.ncomp = ncomp;
@@ -120,6 +124,7 @@ ParticleSnapshot read_particle_snapshot(const std::string& path, const H5Hook& e
   }
   h5::Handle g = h5::open_group(f, "particles", path);
   s.id = h5::read_u64(f, "/particles/id", -1, 1, path);
+  check_unique_ids(path, "/particles/id", s.id);
   const auto n = static_cast<long long>(s.id.size());
   s.position = h5::read_doubles(f, "/particles/position", n, 3, path);
   s.velocity = h5::read_doubles(f, "/particles/velocity", n, 3, path);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -448,6 +449,9 @@ Scene Scene::parse(const Schema& schema, const std::string& toml_text, const std
 }
 
 Scene Scene::load(const Schema& schema, const std::string& path, const std::vector<std::string>& overrides) {
+  std::error_code ec;  // a FIFO would block the read forever
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path, "", "not a regular file (a FIFO, device or directory): cannot read a scene from it");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path, "", "cannot open scene file");
   std::ostringstream text;

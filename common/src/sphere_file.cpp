@@ -66,6 +66,7 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
       v = h5::read_doubles(f, p, n, a.width, path);
     if (n < 0) n = static_cast<long long>(v.size() / a.width);
   });
+  check_unique_ids(path, "/spheres/id", s.id);
   std::vector<std::string> core;
   s.for_each_array([&](const SphereArray& a, const auto& v) {
     core.push_back(a.name);

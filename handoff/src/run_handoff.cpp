@@ -6,6 +6,7 @@
 
 #include "common/finite.hpp"
 #include "common/atomic_file.hpp"
+#include "common/xdmf.hpp"
 #include "common/h5.hpp"
 #include "common/status.hpp"
 #include "handoff/conserving.hpp"
@@ -97,6 +98,9 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
 
 int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
   const auto t0 = std::chrono::steady_clock::now();
+  // Unusable outputs (a FIFO, /dev/null) are refused before any work and before the audit is written.
+  for (const std::string& out : {cfg.output, common::xdmf_path_for(cfg.output), cfg.audit_json, cfg.ss_path})
+    if (!out.empty()) common::check_output_path(out);
   const common::ParticleSnapshot snap = common::read_particle_snapshot(cfg.input);
   common::ParticleSnapshot outflow;
   common::check_input_particles(snap, cfg.input);

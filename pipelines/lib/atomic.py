@@ -5,11 +5,27 @@ import os
 import tempfile
 
 
+def _umask():
+    """The process umask, read without changing it (/proc), else by setting and restoring it."""
+    try:
+        with open("/proc/self/status") as f:
+            for line in f:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except OSError:
+        pass
+    m = os.umask(0o022)
+    os.umask(m)
+    return m
+
+
 def write_bytes(path, data):
-    """Write `data` to `path` atomically (fsync, then rename over any old file)."""
+    """Write `data` to `path` atomically (fsync, then rename over any old file). The file gets the
+    mode the umask implies (0666 & ~umask, as open(2) and the C++ tools give), not mkstemp's 0600."""
     d = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix="." + os.path.basename(path) + ".", dir=d)
     try:
+        os.fchmod(fd, 0o666 & ~_umask())
         with os.fdopen(fd, "wb") as f:
             f.write(data)
             f.flush()

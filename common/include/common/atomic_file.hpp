@@ -28,6 +28,13 @@ class AtomicPath {
   bool committed_ = false;
 };
 
+/// Check that `path` can become an output before anything is written (AtomicPath and PartialFile
+/// call it; a tool may call it first for every output it will write). An existing path that is not
+/// a regular file or a directory (FIFO, device node such as /dev/null, socket) is refused with
+/// InputError (exit 2; rename(2) would replace it, opening a FIFO blocks); a path that can never be
+/// created (a component over NAME_MAX, a file used as a directory) with IoError (exit 4).
+void check_output_path(const std::string& path);
+
 /// Atomically replace `path` with `text`. Throws IoError.
 void write_text_atomic(const std::string& path, const std::string& text);
 

@@ -4,10 +4,12 @@
 /// | code | meaning                                                                |
 /// |------|------------------------------------------------------------------------|
 /// | 0    | success                                                                |
-/// | 2    | bad input: usage, scene file, input HDF5 file                          |
+/// | 2    | bad input: usage, scene file, input HDF5 file (also corrupt), a path   |
+/// |      | that is not a regular file or that the OS refuses as a name            |
 /// | 3    | numerical failure (NaN, inverted element, runaway overlap); the last   |
 /// |      | good state has been saved before exiting                               |
-/// | 4    | I/O failure (cannot create, write or rename an output, disk full)      |
+/// | 4    | I/O or resource failure (cannot create, write or rename an output,     |
+/// |      | disk full, out of memory)                                              |
 #pragma once
 #include <stdexcept>
 #include <string>
