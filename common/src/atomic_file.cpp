@@ -1,3 +1,5 @@
+/// @file atomic_file.cpp
+/// Implementation of common/atomic_file.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/atomic_file.hpp"
 
 #include <fcntl.h>

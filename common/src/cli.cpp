@@ -1,3 +1,5 @@
+/// @file cli.cpp
+/// Implementation of common/cli.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/cli.hpp"
 
 #include <spdlog/spdlog.h>

@@ -1,4 +1,5 @@
-// Input bounds and output finiteness checks (finite.hpp).
+/// @file finite.cpp
+/// Input bounds and output finiteness checks (finite.hpp).
 #include "common/finite.hpp"
 
 #include <cmath>

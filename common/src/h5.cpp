@@ -1,3 +1,5 @@
+/// @file h5.cpp
+/// Implementation of common/h5.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/h5.hpp"
 
 #include <fcntl.h>

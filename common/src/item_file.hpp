@@ -1,4 +1,5 @@
-// Internal: shared machinery for the two item-file kinds (particles, spheres).
+/// @file item_file.hpp
+/// Internal: shared machinery for the two item-file kinds (particles, spheres).
 #pragma once
 #include <algorithm>
 #include <cstdint>

@@ -1,3 +1,5 @@
+/// @file log.cpp
+/// Implementation of common/log.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/log.hpp"
 
 #include <spdlog/sinks/stdout_color_sinks.h>

@@ -1,3 +1,5 @@
+/// @file particle_file.cpp
+/// Implementation of common/particle_file.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/particle_file.hpp"
 
 #include <hdf5.h>

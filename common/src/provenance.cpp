@@ -1,3 +1,5 @@
+/// @file provenance.cpp
+/// Implementation of common/provenance.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/provenance.hpp"
 
 #include <string>

@@ -1,4 +1,5 @@
-// Run lock and staging directory (run_dir.hpp).
+/// @file run_dir.cpp
+/// Run lock and staging directory (run_dir.hpp).
 #include "common/run_dir.hpp"
 
 #include <fcntl.h>

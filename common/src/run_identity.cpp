@@ -1,4 +1,5 @@
-// Run identity (run_identity.hpp).
+/// @file run_identity.cpp
+/// Run identity (run_identity.hpp).
 #include "common/run_identity.hpp"
 
 #include <cerrno>

@@ -1,4 +1,5 @@
-// Scene: TOML parsing (toml++), --set overrides, validation against a Schema, accessors.
+/// @file scene.cpp
+/// Scene: TOML parsing (toml++), --set overrides, validation against a Schema, accessors.
 #include <spdlog/spdlog.h>
 #include <toml++/toml.h>
 

@@ -1,3 +1,5 @@
+/// @file schema.cpp
+/// Implementation of common/schema.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/schema.hpp"
 
 #include <iomanip>

@@ -1,3 +1,5 @@
+/// @file status.cpp
+/// Implementation of common/status.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/status.hpp"
 
 namespace common {

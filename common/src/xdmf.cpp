@@ -1,3 +1,5 @@
+/// @file xdmf.cpp
+/// Implementation of common/xdmf.hpp (the header states the contract, and for physics the equations and sources).
 #include "common/xdmf.hpp"
 
 #include <filesystem>

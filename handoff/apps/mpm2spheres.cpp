@@ -1,4 +1,5 @@
-// mpm2spheres: MPM particle snapshot -> soft spheres for ssdem-grav, with a conservation audit.
+/// @file mpm2spheres.cpp
+/// mpm2spheres: MPM particle snapshot -> soft spheres for ssdem-grav, with a conservation audit.
 #include "common/cli.hpp"
 #include "handoff/handoff_scene.hpp"
 #include "handoff/run_handoff.hpp"

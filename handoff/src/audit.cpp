@@ -1,3 +1,5 @@
+/// @file audit.cpp
+/// Implementation of handoff/audit.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/audit.hpp"
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+/// @file conserving.cpp
+/// Implementation of handoff/conserving.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/conserving.hpp"
 
 #include <Eigen/Dense>

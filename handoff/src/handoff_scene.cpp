@@ -1,3 +1,5 @@
+/// @file handoff_scene.cpp
+/// Implementation of handoff/handoff_scene.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/handoff_scene.hpp"
 
 #include "common/status.hpp"

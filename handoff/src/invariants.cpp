@@ -1,3 +1,5 @@
+/// @file invariants.cpp
+/// Implementation of handoff/invariants.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/invariants.hpp"
 
 #include <Eigen/Geometry>

@@ -1,13 +1,14 @@
-// The projection's inner loops, written once over a per-particle policy Ops<K> that provides
-//   typename Ops<K>::Cache                         per-thread state (cached half-widths),
-//   Ops<K>::stencil(x, size, L, cache) -> st      first node and per-axis weights (S(d) of
-//                                                  mpmfrag::axis_weights_only),
-//   Ops<K>::scatter(st, L, m, v, node)             node (m, p) += S_ip m_p (1, v_p),
-//   Ops<K>::gather(st, L, node, vt)                vt = sum_i S_ip v_i.
-// Included, with no include guard and inside an anonymous namespace, by kernels_portable.cpp and
-// kernels_avx2.cpp: the AVX2 file includes it after `#pragma GCC target("avx2")`, so these loops
-// (and the OpenMP regions outlined from them) are compiled for that target there. Every header they
-// need is included by the including file before that pragma.
+/// @file kernel_loops.hpp
+/// The projection's inner loops, written once over a per-particle policy Ops<K> that provides
+///   typename Ops<K>::Cache                         per-thread state (cached half-widths),
+///   Ops<K>::stencil(x, size, L, cache) -> st      first node and per-axis weights (S(d) of
+///                                                  mpmfrag::axis_weights_only),
+///   Ops<K>::scatter(st, L, m, v, node)             node (m, p) += S_ip m_p (1, v_p),
+///   Ops<K>::gather(st, L, node, vt)                vt = sum_i S_ip v_i.
+/// Included, with no include guard and inside an anonymous namespace, by kernels_portable.cpp and
+/// kernels_avx2.cpp: the AVX2 file includes it after `#pragma GCC target("avx2")`, so these loops
+/// (and the OpenMP regions outlined from them) are compiled for that target there. Every header they
+/// need is included by the including file before that pragma.
 
 /// Steps 2 and 3 of project_to_spheres (projection.hpp) for one shape kind.
 template <mpmfrag::ShapeKind K, template <mpmfrag::ShapeKind> class Ops>

@@ -1,7 +1,8 @@
+/// @file kernel_types.hpp
+/// Types shared by the projection (projection.cpp: validation, binning, output allocation) and its
+/// inner loops, which are compiled twice: portable (kernels_portable.cpp) and for CPUs with AVX2
+/// (kernels_avx2.cpp, chosen at run time). Internal to the handoff library.
 #pragma once
-// Types shared by the projection (projection.cpp: validation, binning, output allocation) and its
-// inner loops, which are compiled twice: portable (kernels_portable.cpp) and for CPUs with AVX2
-// (kernels_avx2.cpp, chosen at run time). Internal to the handoff library.
 #include <Eigen/Core>
 #include <cstddef>
 #include <cstdint>

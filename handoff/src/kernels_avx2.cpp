@@ -1,17 +1,18 @@
-// The projection's inner loops, AVX2 build, chosen at run time (run_kernels_avx2) on x86-64 CPUs
-// that have AVX2; everywhere else the portable build runs (kernels_portable.cpp).
-//
-// What differs from the portable build: one particle's three axes are evaluated together in one
-// 4-lane vector (x, y, z, unused), and a grid node's four accumulators (m, px, py, pz) — or
-// (m, vx, vy, vz) in the gather — are one 32-byte vector, so the 27-node scatter is 27 vector
-// read-modify-writes instead of 108 scalar ones. The operations, their order and the rounding are
-// those of the portable build lane by lane (no FMA: the target is "avx2" without "fma", so nothing
-// is contracted), so both builds give the same bits (tested).
-//
-// Target selection: `#pragma GCC target("avx2")` below applies to the functions defined after it,
-// including the OpenMP regions outlined from them. Every header is included before the pragma, so
-// inline library functions (std::, Eigen) keep the default target and cannot leak AVX2 code into
-// the rest of the program through the linker's choice among duplicate inline definitions.
+/// @file kernels_avx2.cpp
+/// The projection's inner loops, AVX2 build, chosen at run time (run_kernels_avx2) on x86-64 CPUs
+/// that have AVX2; everywhere else the portable build runs (kernels_portable.cpp).
+///
+/// What differs from the portable build: one particle's three axes are evaluated together in one
+/// 4-lane vector (x, y, z, unused), and a grid node's four accumulators (m, px, py, pz) — or
+/// (m, vx, vy, vz) in the gather — are one 32-byte vector, so the 27-node scatter is 27 vector
+/// read-modify-writes instead of 108 scalar ones. The operations, their order and the rounding are
+/// those of the portable build lane by lane (no FMA: the target is "avx2" without "fma", so nothing
+/// is contracted), so both builds give the same bits (tested).
+///
+/// Target selection: `#pragma GCC target("avx2")` below applies to the functions defined after it,
+/// including the OpenMP regions outlined from them. Every header is included before the pragma, so
+/// inline library functions (std::, Eigen) keep the default target and cannot leak AVX2 code into
+/// the rest of the program through the linker's choice among duplicate inline definitions.
 #include <omp.h>
 
 #include <algorithm>

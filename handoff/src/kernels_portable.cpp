@@ -1,5 +1,6 @@
-// The projection's inner loops, portable build: one particle at a time in scalar double
-// arithmetic (any target). See kernel_loops.hpp for the loops and projection.hpp for the equations.
+/// @file kernels_portable.cpp
+/// The projection's inner loops, portable build: one particle at a time in scalar double
+/// arithmetic (any target). See kernel_loops.hpp for the loops and projection.hpp for the equations.
 #include <omp.h>
 
 #include <algorithm>

@@ -1,3 +1,5 @@
+/// @file projection.cpp
+/// Implementation of handoff/projection.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/projection.hpp"
 
 #include <omp.h>

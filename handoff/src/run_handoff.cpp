@@ -1,3 +1,5 @@
+/// @file run_handoff.cpp
+/// Implementation of handoff/run_handoff.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/run_handoff.hpp"
 
 #include <spdlog/spdlog.h>

@@ -1,3 +1,5 @@
+/// @file selection.cpp
+/// Implementation of handoff/selection.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/selection.hpp"
 
 #include <algorithm>

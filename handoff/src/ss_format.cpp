@@ -1,3 +1,5 @@
+/// @file ss_format.cpp
+/// Implementation of handoff/ss_format.hpp (the header states the contract, and for physics the equations and sources).
 #include "handoff/ss_format.hpp"
 
 #include <bit>

@@ -1,4 +1,5 @@
-// mpm-frag: 3D explicit MPM (uGIMP) for hypervelocity impacts. Thin main over the mpm library.
+/// @file main.cpp
+/// mpm-frag: 3D explicit MPM (uGIMP) for hypervelocity impacts. Thin main over the mpm library.
 #include "common/cli.hpp"
 #include "mpm/run.hpp"
 #include "mpm/scene_setup.hpp"

@@ -1,4 +1,5 @@
-// ssdem-grav: self-gravity + soft-sphere DEM. Thin main over the nbody library (run.hpp).
+/// @file ssdem_grav.cpp
+/// ssdem-grav: self-gravity + soft-sphere DEM. Thin main over the nbody library (run.hpp).
 #include "common/cli.hpp"
 #include "ssdem/run.hpp"
 #include "ssdem/scene_setup.hpp"

@@ -1,4 +1,5 @@
-// Registry of contact parts; equations in contact_params.hpp / contact_law.hpp.
+/// @file contact_params.cpp
+/// Registry of contact parts; equations in contact_params.hpp / contact_law.hpp.
 #include "ssdem/contact_params.hpp"
 
 #include <sstream>

@@ -1,4 +1,5 @@
-// k_n and dt selection; equations in dt_rule.hpp.
+/// @file dt_rule.cpp
+/// k_n and dt selection; equations in dt_rule.hpp.
 #include "ssdem/dt_rule.hpp"
 
 #include <algorithm>

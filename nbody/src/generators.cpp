@@ -1,4 +1,5 @@
-// Initial-condition generators (generators.hpp).
+/// @file generators.cpp
+/// Initial-condition generators (generators.hpp).
 #include "ssdem/generators.hpp"
 
 #include <cmath>

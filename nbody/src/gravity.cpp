@@ -1,4 +1,5 @@
-// Octree gravity with quadrupoles and group walk; equations and criteria in gravity.hpp.
+/// @file gravity.cpp
+/// Octree gravity with quadrupoles and group walk; equations and criteria in gravity.hpp.
 #include "ssdem/gravity.hpp"
 
 #include <algorithm>

@@ -1,4 +1,5 @@
-// ssdem-grav driver (run.hpp).
+/// @file run.cpp
+/// ssdem-grav driver (run.hpp).
 #include "ssdem/run.hpp"
 
 #include <spdlog/spdlog.h>

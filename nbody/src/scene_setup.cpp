@@ -1,4 +1,5 @@
-// ssdem-grav scene schema and setup (scene_setup.hpp).
+/// @file scene_setup.cpp
+/// ssdem-grav scene schema and setup (scene_setup.hpp).
 #include "ssdem/scene_setup.hpp"
 
 #include <array>

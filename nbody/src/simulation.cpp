@@ -1,4 +1,5 @@
-// KDK leapfrog driver; equations in simulation.hpp.
+/// @file simulation.cpp
+/// KDK leapfrog driver; equations in simulation.hpp.
 #include "ssdem/simulation.hpp"
 
 #include <omp.h>

@@ -1,6 +1,7 @@
-// Benchmarks of the reaccumulation analysis: FOF (cell list) and FOF + bound mass on a
-// reaccumulated-remnant-like set: a ball of touching spheres plus 10 % fragments and singles
-// spread out to 100 remnant radii. Arguments: N, threads.
+/// @file bench_analysis.cpp
+/// Benchmarks of the reaccumulation analysis: FOF (cell list) and FOF + bound mass on a
+/// reaccumulated-remnant-like set: a ball of touching spheres plus 10 % fragments and singles
+/// spread out to 100 remnant radii. Arguments: N, threads.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 

@@ -1,4 +1,5 @@
-// Constructed sphere configurations for the analysis tests.
+/// @file sphere_configs.hpp
+/// Constructed sphere configurations for the analysis tests.
 #pragma once
 #include <Eigen/Core>
 #include <Eigen/Geometry>

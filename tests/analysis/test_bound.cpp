@@ -1,5 +1,6 @@
-// Bound mass (analysis/bound.hpp): analytic two-body escape speed on both sides (1 %), Galilean
-// invariance, an iteration where a clump is bound only after another joins, bookkeeping sums.
+/// @file test_bound.cpp
+/// Bound mass (analysis/bound.hpp): analytic two-body escape speed on both sides (1 %), Galilean
+/// invariance, an iteration where a clump is bound only after another joins, bookkeeping sums.
 #include <gtest/gtest.h>
 
 #include <cmath>

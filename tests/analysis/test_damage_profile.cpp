@@ -1,5 +1,6 @@
-// Damage profiles (analysis/damage_profile.hpp): a field linear in the axis coordinate gives
-// exact bin means; shells; cylinder selection; empty bins.
+/// @file test_damage_profile.cpp
+/// Damage profiles (analysis/damage_profile.hpp): a field linear in the axis coordinate gives
+/// exact bin means; shells; cylinder selection; empty bins.
 #include <gtest/gtest.h>
 
 #include <cmath>

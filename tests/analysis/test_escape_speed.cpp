@@ -1,6 +1,7 @@
-// Sphere-by-sphere escape test (analysis/escape_speed.hpp): the uniform-sphere potential and the
-// escape speed on both sides (1 %) inside and outside the body; beta_escape_speed on the
-// synthetic impact outcome.
+/// @file test_escape_speed.cpp
+/// Sphere-by-sphere escape test (analysis/escape_speed.hpp): the uniform-sphere potential and the
+/// escape speed on both sides (1 %) inside and outside the body; beta_escape_speed on the
+/// synthetic impact outcome.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// Friends-of-friends on sphere surfaces (analysis/fof.hpp): constructed configurations with known
-// clump counts, the linking threshold on both sides, and a brute-force O(N^2) cross-check.
+/// @file test_fof.cpp
+/// Friends-of-friends on sphere surfaces (analysis/fof.hpp): constructed configurations with known
+/// clump counts, the linking threshold on both sides, and a brute-force O(N^2) cross-check.
 #include <gtest/gtest.h>
 #include <omp.h>
 

@@ -1,6 +1,7 @@
-// Momentum enhancement factor (analysis/momentum.hpp) on synthetic momentum bookkeeping with
-// known answers: head-on (beta = 1.69 exactly by construction), a moving target frame, and an
-// oblique case for the Cheng et al. (2023) vector form.
+/// @file test_momentum.cpp
+/// Momentum enhancement factor (analysis/momentum.hpp) on synthetic momentum bookkeeping with
+/// known answers: head-on (beta = 1.69 exactly by construction), a moving target frame, and an
+/// oblique case for the Cheng et al. (2023) vector form.
 #include <gtest/gtest.h>
 
 #include <cmath>

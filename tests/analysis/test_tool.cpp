@@ -1,5 +1,6 @@
-// ssdem-analyse end to end: a time series of constructed sphere files -> JSON/CSV outputs with
-// the expected numbers; bad inputs -> exit code 2 naming the file and key.
+/// @file test_tool.cpp
+/// ssdem-analyse end to end: a time series of constructed sphere files -> JSON/CSV outputs with
+/// the expected numbers; bad inputs -> exit code 2 naming the file and key.
 #include <gtest/gtest.h>
 
 #include <cstdlib>

@@ -1,5 +1,6 @@
-// Runs fuzz cases in child processes: a crash or a hang is reported as the failing case (with its
-// index, from which the case is regenerated) instead of killing or stalling the test.
+/// @file fuzz_harness.hpp
+/// Runs fuzz cases in child processes: a crash or a hang is reported as the failing case (with its
+/// index, from which the case is regenerated) instead of killing or stalling the test.
 #pragma once
 #include <poll.h>
 #include <signal.h>

@@ -1,4 +1,5 @@
-// Atomic writes (an interrupted write leaves the previous file intact) and XDMF/HDF5 agreement.
+/// @file test_atomic_xdmf.cpp
+/// Atomic writes (an interrupted write leaves the previous file intact) and XDMF/HDF5 agreement.
 #include <gtest/gtest.h>
 
 #include <fstream>

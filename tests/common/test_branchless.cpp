@@ -1,5 +1,6 @@
-// common/branchless.hpp: the selects and floor_to_int equal their branching forms, including at
-// equality, signed zeros, infinities and NaN operands of the comparison (NaN compares false).
+/// @file test_branchless.cpp
+/// common/branchless.hpp: the selects and floor_to_int equal their branching forms, including at
+/// equality, signed zeros, infinities and NaN operands of the comparison (NaN compares false).
 #include <gtest/gtest.h>
 
 #include <cmath>

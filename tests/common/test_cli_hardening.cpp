@@ -1,8 +1,9 @@
-// The four executables on inputs and outputs found by fault injection: a path component over 255
-// bytes (was exit 1 "internal error (please report): filesystem error" for an input; exit 2 now,
-// exit 4 for an output that cannot be created, as for an output directory), an output that is a FIFO
-// or a device node (was replaced by a regular file), an input that is a FIFO (blocked forever).
-// Each must end with a documented exit code, a message naming the path, and nothing written.
+/// @file test_cli_hardening.cpp
+/// The four executables on inputs and outputs found by fault injection: a path component over 255
+/// bytes (was exit 1 "internal error (please report): filesystem error" for an input; exit 2 now,
+/// exit 4 for an output that cannot be created, as for an output directory), an output that is a FIFO
+/// or a device node (was replaced by a regular file), an input that is a FIFO (blocked forever).
+/// Each must end with a documented exit code, a message naming the path, and nothing written.
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <sys/sysmacros.h>

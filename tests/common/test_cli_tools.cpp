@@ -1,10 +1,11 @@
-// The command-line contract as a user meets it, on the real executables (ssdem-grav, mpm-frag):
-// exit code 2 and a message naming the file and dataset for malformed sphere input,
-// --version / --help-params / --print-scene, and time-series CSVs that a failed rerun never
-// destroys (a run writes into <dir>/.staging-<pid>, rows to <series>.partial renamed into place
-// when the run ends, stops on a numerical failure or on a signal, and publishes into <dir> only
-// when it completes; a --restart continues the series, also after a crash);
-// renamed scene keys still read (with a warning) under their old names.
+/// @file test_cli_tools.cpp
+/// The command-line contract as a user meets it, on the real executables (ssdem-grav, mpm-frag):
+/// exit code 2 and a message naming the file and dataset for malformed sphere input,
+/// --version / --help-params / --print-scene, and time-series CSVs that a failed rerun never
+/// destroys (a run writes into <dir>/.staging-<pid>, rows to <series>.partial renamed into place
+/// when the run ends, stops on a numerical failure or on a signal, and publishes into <dir> only
+/// when it completes; a --restart continues the series, also after a crash);
+/// renamed scene keys still read (with a warning) under their old names.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>

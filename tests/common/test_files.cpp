@@ -1,4 +1,5 @@
-// File contract: bit-exact round trips, units and provenance on every dataset.
+/// @file test_files.cpp
+/// File contract: bit-exact round trips, units and provenance on every dataset.
 #include <gtest/gtest.h>
 
 #include "common/h5.hpp"

@@ -1,16 +1,17 @@
-// Mutation fuzzing without libFuzzer: seeded, bounded, registered with label `fuzz` (also run under
-// ASan+UBSan). Every case must end in success or a typed error (InputError, IoError): never another
-// exception, a crash or a hang (each case runs in a child process, see fuzz_harness.hpp).
-//
-//  - HDF5 readers: a small valid particle snapshot and sphere set with 1-64 bytes overwritten at
-//    seeded random offsets (or truncated), read by read_particle_snapshot, read_sphere_set and
-//    h5::read_provenance.
-//  - Scene parser: each tool's schema (mpm-frag, mpm2spheres, ssdem-grav, ssdem-analyse) over its
-//    resolved default scene and the shipped scene files, mutated (bytes flipped, ranges cut or
-//    repeated, TOML tokens inserted, lines spliced), plus mutated --set overrides.
-//
-// Knobs (environment): FUZZ_SEED, FUZZ_H5_CASES, FUZZ_SCENE_CASES, FUZZ_CASE_TIMEOUT_S, and
-// FUZZ_SAVE_DIR (failing HDF5 mutants are saved there as mutant_<index>.h5).
+/// @file test_fuzz.cpp
+/// Mutation fuzzing without libFuzzer: seeded, bounded, registered with label `fuzz` (also run under
+/// ASan+UBSan). Every case must end in success or a typed error (InputError, IoError): never another
+/// exception, a crash or a hang (each case runs in a child process, see fuzz_harness.hpp).
+///
+///  - HDF5 readers: a small valid particle snapshot and sphere set with 1-64 bytes overwritten at
+///    seeded random offsets (or truncated), read by read_particle_snapshot, read_sphere_set and
+///    h5::read_provenance.
+///  - Scene parser: each tool's schema (mpm-frag, mpm2spheres, ssdem-grav, ssdem-analyse) over its
+///    resolved default scene and the shipped scene files, mutated (bytes flipped, ranges cut or
+///    repeated, TOML tokens inserted, lines spliced), plus mutated --set overrides.
+///
+/// Knobs (environment): FUZZ_SEED, FUZZ_H5_CASES, FUZZ_SCENE_CASES, FUZZ_CASE_TIMEOUT_S, and
+/// FUZZ_SAVE_DIR (failing HDF5 mutants are saved there as mutant_<index>.h5).
 #include <gtest/gtest.h>
 
 #include <algorithm>

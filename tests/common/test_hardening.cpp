@@ -1,7 +1,8 @@
-// Failures found by fuzzing and fault injection, each of which must end cleanly: a typed error
-// (InputError, exit 2; IoError, exit 4) with a message naming the file, no crash, no hang and no
-// output left behind. Reads that used to crash or block run in a child process with a time limit,
-// so that on a regression the test fails instead of crashing or stalling the suite.
+/// @file test_hardening.cpp
+/// Failures found by fuzzing and fault injection, each of which must end cleanly: a typed error
+/// (InputError, exit 2; IoError, exit 4) with a message naming the file, no crash, no hang and no
+/// output left behind. Reads that used to crash or block run in a child process with a time limit,
+/// so that on a regression the test fails instead of crashing or stalling the suite.
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <signal.h>

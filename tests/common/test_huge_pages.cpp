@@ -1,5 +1,6 @@
-// HugePageAllocator: large blocks are 2 MiB aligned (the condition for the kernel to back them with
-// transparent huge pages), small ones come from operator new, and values behave as in std::vector.
+/// @file test_huge_pages.cpp
+/// HugePageAllocator: large blocks are 2 MiB aligned (the condition for the kernel to back them with
+/// transparent huge pages), small ones come from operator new, and values behave as in std::vector.
 #include <gtest/gtest.h>
 
 #include <cstdint>

@@ -1,5 +1,6 @@
-// Malformed inputs: each one is rejected with InputError (exit code 2 through ToolApp) and a
-// message naming the file and the offending dataset or attribute.
+/// @file test_malformed.cpp
+/// Malformed inputs: each one is rejected with InputError (exit code 2 through ToolApp) and a
+/// message naming the file and the offending dataset or attribute.
 #include <gtest/gtest.h>
 
 #include <filesystem>

@@ -1,4 +1,5 @@
-// Keyed random streams: reproducible per (seed, id, stream), statistically sound.
+/// @file test_rng.cpp
+/// Keyed random streams: reproducible per (seed, id, stream), statistically sound.
 #include <gtest/gtest.h>
 
 #include <cmath>

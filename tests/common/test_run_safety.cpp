@@ -1,12 +1,13 @@
-// A run is safe as a whole, on the real executables:
-//  1. finite but extreme inputs (density 1e308, a 4.3e9 m body, velocity or spin 1e308 in an
-//     input file) are refused with exit 2 naming the file/key and the allowed range, never
-//     written as Inf with exit 0; outputs are checked finite before they are written;
-//  2. --restart refuses the checkpoint of another run (exit 2, naming both run identities and
-//     the keys that differ), leaving the directory as it was;
-//  3. an output directory holds one complete run: a run killed (SIGKILL/SIGTERM) or failing
-//     leaves the previous run's files byte for byte, its own output in <dir>/.staging-<pid>;
-//     a second run into a directory in use is refused with exit 2 naming the holder's pid.
+/// @file test_run_safety.cpp
+/// A run is safe as a whole, on the real executables:
+///  1. finite but extreme inputs (density 1e308, a 4.3e9 m body, velocity or spin 1e308 in an
+///     input file) are refused with exit 2 naming the file/key and the allowed range, never
+///     written as Inf with exit 0; outputs are checked finite before they are written;
+///  2. --restart refuses the checkpoint of another run (exit 2, naming both run identities and
+///     the keys that differ), leaving the directory as it was;
+///  3. an output directory holds one complete run: a run killed (SIGKILL/SIGTERM) or failing
+///     leaves the previous run's files byte for byte, its own output in <dir>/.staging-<pid>;
+///     a second run into a directory in use is refused with exit 2 naming the holder's pid.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>

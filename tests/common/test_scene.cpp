@@ -1,5 +1,6 @@
-// Scene schema: defaults, types, ranges, unknown keys, overrides, styles, resolved echo,
-// deprecated aliases and typed choices.
+/// @file test_scene.cpp
+/// Scene schema: defaults, types, ranges, unknown keys, overrides, styles, resolved echo,
+/// deprecated aliases and typed choices.
 #include <gtest/gtest.h>
 #include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>

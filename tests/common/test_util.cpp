@@ -1,3 +1,5 @@
+/// @file test_util.cpp
+/// Implementation of test_util.hpp (the header states the contract, and for physics the equations and sources).
 #include "test_util.hpp"
 
 #include <random>

@@ -1,4 +1,5 @@
-// Helpers shared by the common tests: temporary directories and sample data.
+/// @file test_util.hpp
+/// Helpers shared by the common tests: temporary directories and sample data.
 #pragma once
 #include <filesystem>
 #include <string>

@@ -1,14 +1,15 @@
-// Benchmarks of the Tonge–Ramesh style (label bench; run `make -C pipelines damage-bench` or the
-// executable directly). Reported as us per particle-step per core (items/s -> invert).
-//  * BM_StyleUpdate/<case>: the batched material update of 4096 particles, single thread, 50 flaw
-//    bins (both El Mir Table 1 populations), elastic loading below the growth threshold
-//    (case 0: 0.1 mm particles, ~2 flaws each; case 1: 1 mm particles, ~2000 flaws), and during
-//    active crack growth with damage sub-stepping (case 2).
-//  * BM_DiskStep/<style>: full mpm-frag steps of the reduced Brazilian disk (0.5 mm, ~950
-//    particles) with the basalt as tonge_ramesh (0) or as plain tillotson (1): the difference is
-//    the share of the step taken by the damage model. On a shared machine use the _cpu counter
-//    (process CPU seconds over particle-steps = per-core cost); the run goes through failure, so
-//    it includes the crack-growth sub-stepping phase.
+/// @file bench_damage.cpp
+/// Benchmarks of the Tonge–Ramesh style (label bench; run `make -C pipelines damage-bench` or the
+/// executable directly). Reported as us per particle-step per core (items/s -> invert).
+///  * BM_StyleUpdate/<case>: the batched material update of 4096 particles, single thread, 50 flaw
+///    bins (both El Mir Table 1 populations), elastic loading below the growth threshold
+///    (case 0: 0.1 mm particles, ~2 flaws each; case 1: 1 mm particles, ~2000 flaws), and during
+///    active crack growth with damage sub-stepping (case 2).
+///  * BM_DiskStep/<style>: full mpm-frag steps of the reduced Brazilian disk (0.5 mm, ~950
+///    particles) with the basalt as tonge_ramesh (0) or as plain tillotson (1): the difference is
+///    the share of the step taken by the damage model. On a shared machine use the _cpu counter
+///    (process CPU seconds over particle-steps = per-core cost); the run goes through failure, so
+///    it includes the crack-growth sub-stepping phase.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 

@@ -1,20 +1,21 @@
-// Dynamic Brazilian-disk test of El Mir (2019) basalt in mpm-frag (issue 4 validation; El Mir,
-// Ramesh & Richardson 2019 Figs. 2-3). Shared by the pipeline driver and the reduced ctest.
-//
-// Geometry: disk of diameter D (10 mm) and thickness t (2 mm), axis along z; by mirror symmetry
-// only z in [0, t/2] is modelled (symmetry grid face at z = 0), so the full-disk load is twice
-// the half-model load. One particle per cell (cell centres inside the disk), uGIMP, MUSL.
-// Loading: two flat platens (elastic steel stiffness, density x1e3 so that their nodal
-// velocities dominate, sticking contact because mpm-frag bodies share one velocity field) touch
-// the disk at y = +-D/2; a body force ramps them to +-v0 over t_ramp (no impact wave) and then
-// holds every platen particle at that velocity (relaxation control, time constant platen_tau):
-// velocity-controlled rigid jaws. Nominal strain rate
-// eps_dot = 2 v0 / D. Load F = force carried across the disk's central horizontal band
-// |y| < b (b = 1 mm): F_half = -sum_{disk, |y|<b} sigma_yy V_p / (2b), F = 2 F_half (the section
-// force equals the platen load in quasi-static equilibrium; measuring inside the disk avoids the
-// platens' own inertia, whose mean stress is only ~F/2 for a free heavy body). The platen-stress
-// estimate is kept in the history for comparison. Brazilian tensile strength
-// sigma_t = 2 F / (pi D t) (Hondros 1959 / ISRM) at the peak load.
+/// @file brazilian.hpp
+/// Dynamic Brazilian-disk test of El Mir (2019) basalt in mpm-frag (issue 4 validation; El Mir,
+/// Ramesh & Richardson 2019 Figs. 2-3). Shared by the pipeline driver and the reduced ctest.
+///
+/// Geometry: disk of diameter D (10 mm) and thickness t (2 mm), axis along z; by mirror symmetry
+/// only z in [0, t/2] is modelled (symmetry grid face at z = 0), so the full-disk load is twice
+/// the half-model load. One particle per cell (cell centres inside the disk), uGIMP, MUSL.
+/// Loading: two flat platens (elastic steel stiffness, density x1e3 so that their nodal
+/// velocities dominate, sticking contact because mpm-frag bodies share one velocity field) touch
+/// the disk at y = +-D/2; a body force ramps them to +-v0 over t_ramp (no impact wave) and then
+/// holds every platen particle at that velocity (relaxation control, time constant platen_tau):
+/// velocity-controlled rigid jaws. Nominal strain rate
+/// eps_dot = 2 v0 / D. Load F = force carried across the disk's central horizontal band
+/// |y| < b (b = 1 mm): F_half = -sum_{disk, |y|<b} sigma_yy V_p / (2b), F = 2 F_half (the section
+/// force equals the platen load in quasi-static equilibrium; measuring inside the disk avoids the
+/// platens' own inertia, whose mean stress is only ~F/2 for a free heavy body). The platen-stress
+/// estimate is kept in the history for comparison. Brazilian tensile strength
+/// sigma_t = 2 F / (pi D t) (Hondros 1959 / ISRM) at the peak load.
 #pragma once
 #include <omp.h>
 

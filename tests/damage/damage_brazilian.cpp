@@ -1,9 +1,10 @@
-// damage_brazilian: dynamic Brazilian disk of basalt (see brazilian.hpp).
-// Usage: damage_brazilian <outdir> <rate_per_s> [cell_m=1e-4] [courant=0.3] [seed=1] [style]
-//        [sampling=poisson|expected]
-// Writes <outdir>/history_<rate>.csv, <outdir>/damage_<rate>.csv and one summary line
-// (rate,eff_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s) on stdout.
-// Exit 3 on a numerical failure (the partial history and damage field are written first).
+/// @file damage_brazilian.cpp
+/// damage_brazilian: dynamic Brazilian disk of basalt (see brazilian.hpp).
+/// Usage: damage_brazilian <outdir> <rate_per_s> [cell_m=1e-4] [courant=0.3] [seed=1] [style]
+///        [sampling=poisson|expected]
+/// Writes <outdir>/history_<rate>.csv, <outdir>/damage_<rate>.csv and one summary line
+/// (rate,eff_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s) on stdout.
+/// Exit 3 on a numerical failure (the partial history and damage field are written first).
 #include <cstdio>
 #include <cstdlib>
 #include <string>

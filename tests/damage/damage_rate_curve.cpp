@@ -1,7 +1,8 @@
-// damage_rate_curve: single-element (one material point, homogeneous uniaxial stress) peak
-// tensile and compressive strength of El Mir (2019) basalt against strain rate.
-// Usage: damage_rate_curve <out.csv> [volume_m3=1e-9] [seeds=5] [rates...]
-// Writes rows: mode,rate_per_s,seed,peak_stress_Pa,strain_at_peak,final_damage,steps.
+/// @file damage_rate_curve.cpp
+/// damage_rate_curve: single-element (one material point, homogeneous uniaxial stress) peak
+/// tensile and compressive strength of El Mir (2019) basalt against strain rate.
+/// Usage: damage_rate_curve <out.csv> [volume_m3=1e-9] [seeds=5] [rates...]
+/// Writes rows: mode,rate_per_s,seed,peak_stress_Pa,strain_at_peak,final_damage,steps.
 #include <cstdio>
 #include <cstdlib>
 #include <string>

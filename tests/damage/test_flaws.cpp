@@ -1,5 +1,6 @@
-// Flaw-population tests: bounded-Pareto moments and per-particle Poisson sampling statistics
-// (tonge-ramesh spec §4; El Mir et al. 2019 Table 1 basalt populations).
+/// @file test_flaws.cpp
+/// Flaw-population tests: bounded-Pareto moments and per-particle Poisson sampling statistics
+/// (tonge-ramesh spec §4; El Mir et al. 2019 Table 1 basalt populations).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// Granular flow (Drucker–Prager return, dilatancy, dissipation) and P–alpha compaction
-// (tonge-ramesh spec §8–9; crush-curve hand values in §9).
+/// @file test_granular.cpp
+/// Granular flow (Drucker–Prager return, dilatancy, dissipation) and P–alpha compaction
+/// (tonge-ramesh spec §8–9; crush-curve hand values in §9).
 #include <gtest/gtest.h>
 
 #include <cmath>

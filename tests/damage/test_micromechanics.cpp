@@ -1,4 +1,5 @@
-// Wing-crack micromechanics and damaged moduli (tonge-ramesh spec §5, §7; hand values there).
+/// @file test_micromechanics.cpp
+/// Wing-crack micromechanics and damaged moduli (tonge-ramesh spec §5, §7; hand values there).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// Full point update (tonge-ramesh spec §10): elasticity, objectivity, damaged moduli at D_max,
-// damage monotone/capped, non-negative dissipation, bad input rejected.
+/// @file test_point_update.cpp
+/// Full point update (tonge-ramesh spec §10): elasticity, objectivity, damaged moduli at D_max,
+/// damage monotone/capped, non-negative dissipation, bad input rejected.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

@@ -1,8 +1,9 @@
-// Single-element (one material point, homogeneous uniaxial stress) strength against strain rate
-// for El Mir (2019) basalt: the peak tensile and compressive stresses rise monotonically with
-// rate (finite crack speed, Tonge & Ramesh 2016), the quasi-static tensile peak equals the
-// analytic wing-crack onset stress of the particle's largest flaw, and magnitudes are plausible
-// (tension ~ 1/10 of compression, validation-data.md §1.1).
+/// @file test_rate_dependence.cpp
+/// Single-element (one material point, homogeneous uniaxial stress) strength against strain rate
+/// for El Mir (2019) basalt: the peak tensile and compressive stresses rise monotonically with
+/// rate (finite crack speed, Tonge & Ramesh 2016), the quasi-static tensile peak equals the
+/// analytic wing-crack onset stress of the particle's largest flaw, and magnitudes are plausible
+/// (tension ~ 1/10 of compression, validation-data.md §1.1).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,9 +1,10 @@
-// Tonge–Ramesh style inside the mpm-frag solver: a reduced dynamic Brazilian disk (0.5 mm cells,
-// 10 mm x 2 mm basalt disk, nominal rate 1500 1/s): identical damage field for 1 and 2 OpenMP
-// threads (deterministic solver + per-particle model), failure along the loaded diameter, and a
-// Brazilian strength of the right order (this coarse, fast case sits at an effective rate of
-// ~500 1/s; measured ~120 MPa; accepted 20–200 MPa — the gate is the damage pattern and the
-// determinism, the strength comparison is the pipeline's job).
+/// @file test_solver_damage.cpp
+/// Tonge–Ramesh style inside the mpm-frag solver: a reduced dynamic Brazilian disk (0.5 mm cells,
+/// 10 mm x 2 mm basalt disk, nominal rate 1500 1/s): identical damage field for 1 and 2 OpenMP
+/// threads (deterministic solver + per-particle model), failure along the loaded diameter, and a
+/// Brazilian strength of the right order (this coarse, fast case sits at an effective rate of
+/// ~500 1/s; measured ~120 MPa; accepted 20–200 MPa — the gate is the damage pattern and the
+/// determinism, the strength comparison is the pipeline's job).
 #include <gtest/gtest.h>
 #include <omp.h>
 

@@ -1,6 +1,7 @@
-// Stiff/extreme cases of the Tonge–Ramesh model (issue 4): strain rates up to 1e6 1/s, a fully
-// damaged point pulled to J = 2, compaction beyond P_c, and a sub-step-capped update: each must
-// stay finite and physically bounded (or be rejected cleanly as bad input).
+/// @file test_stability.cpp
+/// Stiff/extreme cases of the Tonge–Ramesh model (issue 4): strain rates up to 1e6 1/s, a fully
+/// damaged point pulled to J = 2, compaction beyond P_c, and a sub-step-capped update: each must
+/// stay finite and physically bounded (or be rejected cleanly as bad input).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,13 +1,14 @@
-// Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, smooth velocity field),
-// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s. Three layouts:
-// 0 the regular lattice of a fresh mpm-frag body, in creation order; 1 the same lattice with every
-// particle moved randomly within its sub-cell (positions as after deformation, where the weights'
-// branch regions vary from particle to particle), creation order; 2 layout 1 in the block-sorted
-// order in which mpm-frag writes snapshots after its first step (the realistic input); the
-// projection alone also runs on 3, layout 1 in the hand-off's own cell order (best case).
-// BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
-// write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
-// (pipelines/handoff/rules.mk runs dd beside it).
+/// @file bench_handoff.cpp
+/// Hand-off throughput: 10^6 synthetic particles (2 per cell per axis, smooth velocity field),
+/// projection + G2P + aggregation + audit, file I/O excluded. Reports particles/s. Three layouts:
+/// 0 the regular lattice of a fresh mpm-frag body, in creation order; 1 the same lattice with every
+/// particle moved randomly within its sub-cell (positions as after deformation, where the weights'
+/// branch regions vary from particle to particle), creation order; 2 layout 1 in the block-sorted
+/// order in which mpm-frag writes snapshots after its first step (the realistic input); the
+/// projection alone also runs on 3, layout 1 in the hand-off's own cell order (best case).
+/// BM_WriteSnapshot / BM_ReadSnapshot: the same snapshot through the HDF5 file contract (atomic
+/// write with fsync; read with validation) in MB/s, to compare with the disk's sequential rate
+/// (pipelines/handoff/rules.mk runs dd beside it).
 #include <benchmark/benchmark.h>
 #include <omp.h>
 #include <sys/resource.h>

@@ -1,4 +1,5 @@
-// Synthetic particle snapshots for the hand-off tests and benchmark.
+/// @file particle_sets.hpp
+/// Synthetic particle snapshots for the hand-off tests and benchmark.
 #pragma once
 #include <Eigen/Core>
 #include <cmath>

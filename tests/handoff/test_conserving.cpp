@@ -1,4 +1,5 @@
-// The conserving alternative: KE and angular momentum exact where the derivation says they can be.
+/// @file test_conserving.cpp
+/// The conserving alternative: KE and angular momentum exact where the derivation says they can be.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>

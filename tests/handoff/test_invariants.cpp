@@ -1,7 +1,8 @@
-// The audit's conserved quantities (handoff/src/invariants.cpp: moments about item 0 shifted to
-// the centre of mass, block-plain / Neumaier sums, the scale in a second pass) against a direct two-pass reference
-// in long double, on a body far from the origin with a fast bulk motion (where a shift about the
-// origin would lose digits), with and without sphere spins, and on 1 and 2 threads.
+/// @file test_invariants.cpp
+/// The audit's conserved quantities (handoff/src/invariants.cpp: moments about item 0 shifted to
+/// the centre of mass, block-plain / Neumaier sums, the scale in a second pass) against a direct two-pass reference
+/// in long double, on a body far from the origin with a fast bulk motion (where a shift about the
+/// origin would lose digits), with and without sphere spins, and on 1 and 2 threads.
 #include <gtest/gtest.h>
 #include <omp.h>
 

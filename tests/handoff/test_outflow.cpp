@@ -1,6 +1,7 @@
-// Hand-off of particles that left the MPM grid (outflow.hpp): ballistic positions at the snapshot
-// time, one sphere per lattice cell outside the grid, merging into an existing edge sphere,
-// mass and momentum exact, spheres never sharing a cell.
+/// @file test_outflow.cpp
+/// Hand-off of particles that left the MPM grid (outflow.hpp): ballistic positions at the snapshot
+/// time, one sphere per lattice cell outside the grid, merging into an existing edge sphere,
+/// mass and momentum exact, spheres never sharing a cell.
 #include <gtest/gtest.h>
 
 #include <cmath>

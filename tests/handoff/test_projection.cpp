@@ -1,5 +1,6 @@
-// The paper's hand-off: exact mass and momentum on many particle sets, sphere geometry,
-// particle-id map, rigid translation, and the uniform-rotation energy loss against its derivation.
+/// @file test_projection.cpp
+/// The paper's hand-off: exact mass and momentum on many particle sets, sphere geometry,
+/// particle-id map, rigid translation, and the uniform-rotation energy loss against its derivation.
 #include <gtest/gtest.h>
 #include <omp.h>
 

@@ -1,4 +1,5 @@
-// pkdgrav .ss export: byte layout, round trip, and malformed files.
+/// @file test_ss.cpp
+/// pkdgrav .ss export: byte layout, round trip, and malformed files.
 #include <gtest/gtest.h>
 
 #include <filesystem>

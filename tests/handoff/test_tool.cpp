@@ -1,6 +1,7 @@
-// mpm2spheres as a user runs it: exit codes (2 bad input, 3 energy threshold, 4 I/O), nothing
-// written on bad input (not even the audit), no partial file on an I/O failure, existing results
-// kept, material selection audited, --version and --print-scene.
+/// @file test_tool.cpp
+/// mpm2spheres as a user runs it: exit codes (2 bad input, 3 energy threshold, 4 I/O), nothing
+/// written on bad input (not even the audit), no partial file on an I/O failure, existing results
+/// kept, material selection audited, --version and --print-scene.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 

@@ -1,6 +1,7 @@
-// Benchmark (label bench): microseconds per particle-step per core for an elastic uGIMP sphere
-// (>= 2e5 particles) and a Tillotson impact, on 1 and 2 threads, plus bytes per particle.
-// Run: build-mpm/tests/mpm/mpm_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+/// @file bench_mpm.cpp
+/// Benchmark (label bench): microseconds per particle-step per core for an elastic uGIMP sphere
+/// (>= 2e5 particles) and a Tillotson impact, on 1 and 2 threads, plus bytes per particle.
+/// Run: build-mpm/tests/mpm/mpm_bench --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
 #include <benchmark/benchmark.h>
 #include <omp.h>
 

@@ -1,6 +1,7 @@
-// Error-vs-cost study driver (pipelines/mpm/rules.mk target mpm-convergence): the axis-aligned
-// manufactured solution and the planar Tillotson shock at 4+ resolutions; one CSV row per run.
-// usage: mpm_convergence <out.csv> [max MMS N (default 32)] [max shock cells (default 400)]
+/// @file convergence_study.cpp
+/// Error-vs-cost study driver (pipelines/mpm/rules.mk target mpm-convergence): the axis-aligned
+/// manufactured solution and the planar Tillotson shock at 4+ resolutions; one CSV row per run.
+/// usage: mpm_convergence <out.csv> [max MMS N (default 32)] [max shock cells (default 400)]
 #include <omp.h>
 
 #include <cstdio>

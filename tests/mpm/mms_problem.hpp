@@ -1,6 +1,7 @@
-// Axis-aligned manufactured solution (Wallstedt & Guilkey 2008, JCP 227:9628; Uintah AA.ups /
-// CNH_MMS; shared/reference/mpm.md §2.2), shared by the verification test and the
-// convergence study driver.
+/// @file mms_problem.hpp
+/// Axis-aligned manufactured solution (Wallstedt & Guilkey 2008, JCP 227:9628; Uintah AA.ups /
+/// CNH_MMS; shared/reference/mpm.md §2.2), shared by the verification test and the
+/// convergence study driver.
 #pragma once
 #include <chrono>
 #include <cmath>

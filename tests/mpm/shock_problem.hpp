@@ -1,9 +1,10 @@
-// Planar symmetric Tillotson-basalt impact (1D column, roller side faces): two plates at
-// +-u_p collide at z = 0; behind each shock the material is at rest at the Hugoniot state.
-// Exact answer (Rankine–Hugoniot with the Tillotson EOS, validation-data.md §2.3): for
-// u_p = 2.5 km/s, P = 48.13 GPa, rho/rho0 = 1.5399, U_s = 7.131 km/s (relative to the
-// unshocked plate), so in the lab frame the shock moves at U_s - u_p = 4.631 km/s.
-// Shared by the verification test and the convergence study.
+/// @file shock_problem.hpp
+/// Planar symmetric Tillotson-basalt impact (1D column, roller side faces): two plates at
+/// +-u_p collide at z = 0; behind each shock the material is at rest at the Hugoniot state.
+/// Exact answer (Rankine–Hugoniot with the Tillotson EOS, validation-data.md §2.3): for
+/// u_p = 2.5 km/s, P = 48.13 GPa, rho/rho0 = 1.5399, U_s = 7.131 km/s (relative to the
+/// unshocked plate), so in the lab frame the shock moves at U_s - u_p = 4.631 km/s.
+/// Shared by the verification test and the convergence study.
 #pragma once
 #include <algorithm>
 #include <chrono>

@@ -1,5 +1,6 @@
-// Verification of the elastic MPM core: vibrating bar (mpm.md §2.1), elastic wave speed
-// (within 1 %), colliding spheres (momentum to round-off), thread-count independence.
+/// @file test_elastic_verification.cpp
+/// Verification of the elastic MPM core: vibrating bar (mpm.md §2.1), elastic wave speed
+/// (within 1 %), colliding spheres (momentum to round-off), thread-count independence.
 #include <gtest/gtest.h>
 #include <omp.h>
 

@@ -1,4 +1,5 @@
-// Helpers for mpm tests: build a solver from TOML text (the same path as mpm-frag).
+/// @file test_helpers.hpp
+/// Helpers for mpm tests: build a solver from TOML text (the same path as mpm-frag).
 #pragma once
 #include <functional>
 #include <string>

@@ -1,4 +1,5 @@
-// Unit tests of the material styles and helpers.
+/// @file test_materials.cpp
+/// Unit tests of the material styles and helpers.
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>

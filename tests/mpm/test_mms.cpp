@@ -1,5 +1,6 @@
-// Verification: axis-aligned manufactured solution (mpm.md §2.2). uGIMP converges at about
-// second order (error ratio >= 3.2 between N = 8 and 16); classic linear MPM does not.
+/// @file test_mms.cpp
+/// Verification: axis-aligned manufactured solution (mpm.md §2.2). uGIMP converges at about
+/// second order (error ratio >= 3.2 between N = 8 and 16); classic linear MPM does not.
 #include <gtest/gtest.h>
 
 #include "mms_problem.hpp"

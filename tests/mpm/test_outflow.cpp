@@ -1,6 +1,7 @@
-// Outflow (grid.outflow = "remove"): particles that leave the grid are taken out of the MPM
-// computation, fly ballistically, are written to <prefix>_outflow.h5 and stay in the conserved
-// totals; the remaining particles keep their own state (compaction inside a material range).
+/// @file test_outflow.cpp
+/// Outflow (grid.outflow = "remove"): particles that leave the grid are taken out of the MPM
+/// computation, fly ballistically, are written to <prefix>_outflow.h5 and stay in the conserved
+/// totals; the remaining particles keep their own state (compaction inside a material range).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,6 @@
-// Scene construction: body primitives -> particles, input errors, snapshot fields only for the
-// models a scene enables, exact P2G conservation.
+/// @file test_scene_setup.cpp
+/// Scene construction: body primitives -> particles, input errors, snapshot fields only for the
+/// models a scene enables, exact P2G conservation.
 #include <gtest/gtest.h>
 
 #include <cmath>

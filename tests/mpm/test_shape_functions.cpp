@@ -1,4 +1,5 @@
-// Unit tests of the uGIMP / linear shape functions (mpm/include/mpm/shape_functions.hpp).
+/// @file test_shape_functions.cpp
+/// Unit tests of the uGIMP / linear shape functions (mpm/include/mpm/shape_functions.hpp).
 #include <gtest/gtest.h>
 
 #include <random>

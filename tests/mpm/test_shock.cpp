@@ -1,5 +1,6 @@
-// Verification: planar symmetric Tillotson-basalt impact at 2 x 2.5 km/s vs the
-// Rankine–Hugoniot state of the Tillotson EOS (validation-data.md §2.3).
+/// @file test_shock.cpp
+/// Verification: planar symmetric Tillotson-basalt impact at 2 x 2.5 km/s vs the
+/// Rankine–Hugoniot state of the Tillotson EOS (validation-data.md §2.3).
 #include <gtest/gtest.h>
 
 #include "shock_problem.hpp"

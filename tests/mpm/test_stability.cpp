@@ -1,5 +1,6 @@
-// Stability: stiff and extreme cases must stay finite or stop with a clear diagnosis
-// (SolverFailure / NumericalError -> exit code 3 with the last good state saved).
+/// @file test_stability.cpp
+/// Stability: stiff and extreme cases must stay finite or stop with a clear diagnosis
+/// (SolverFailure / NumericalError -> exit code 3 with the last good state saved).
 #include <gtest/gtest.h>
 
 #include <cmath>

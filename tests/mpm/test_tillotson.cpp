@@ -1,5 +1,6 @@
-// Tillotson EOS unit tests: reference point values of validation-data.md §2.2 (basalt, BA99),
-// branch continuity, positive sound speed, finiteness everywhere.
+/// @file test_tillotson.cpp
+/// Tillotson EOS unit tests: reference point values of validation-data.md §2.2 (basalt, BA99),
+/// branch continuity, positive sound speed, finiteness everywhere.
 #include <gtest/gtest.h>
 
 #include <cmath>

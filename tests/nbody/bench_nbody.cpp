@@ -1,7 +1,8 @@
-// Benchmark: self-gravitating gravel-like rubble pile (FCC lattice, every interior sphere in
-// contact with 12 neighbours), 5e4 and 2e5 spheres, 1 and 2 threads, gravity every k steps.
-// Counters: us per particle-step per core (total and split gravity / neighbour search /
-// contacts / integration), contacts per sphere, bytes per sphere. Use the median of repetitions.
+/// @file bench_nbody.cpp
+/// Benchmark: self-gravitating gravel-like rubble pile (FCC lattice, every interior sphere in
+/// contact with 12 neighbours), 5e4 and 2e5 spheres, 1 and 2 threads, gravity every k steps.
+/// Counters: us per particle-step per core (total and split gravity / neighbour search /
+/// contacts / integration), contacts per sphere, bytes per sphere. Use the median of repetitions.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 

@@ -1,7 +1,8 @@
-// ssdem-grav end to end: restart from a checkpoint is bit-identical to an uninterrupted run
-// (also after a SIGTERM that always lands mid-run), exit codes 2 (unresolvable dt) and 3
-// (runaway overlap, state saved), per-sphere fields (damage) carried from the input file to
-// snapshots, scene-driven physics selection (no tree / no neighbour list when not needed).
+/// @file test_app.cpp
+/// ssdem-grav end to end: restart from a checkpoint is bit-identical to an uninterrupted run
+/// (also after a SIGTERM that always lands mid-run), exit codes 2 (unresolvable dt) and 3
+/// (runaway overlap, state saved), per-sphere fields (damage) carried from the input file to
+/// snapshots, scene-driven physics selection (no tree / no neighbour list when not needed).
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>

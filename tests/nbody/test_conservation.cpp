@@ -1,5 +1,6 @@
-// Conservation (energy, linear and angular momentum) in a dense self-gravitating pile,
-// thread-count independence, bit-identical restart, history keyed by ids.
+/// @file test_conservation.cpp
+/// Conservation (energy, linear and angular momentum) in a dense self-gravitating pile,
+/// thread-count independence, bit-identical restart, history keyed by ids.
 #include <gtest/gtest.h>
 #include <omp.h>
 

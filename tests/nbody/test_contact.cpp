@@ -1,7 +1,8 @@
-// Verification of the soft-sphere contact law against analytic solutions (ssdem.md §3.1, §3.3,
-// §3.4): head-on restitution and contact time, gross-sliding oblique impact (rigid-body limits),
-// slide-to-roll transition (5/7 rule), rolling resistance, incline limit arctan(mu_r beta),
-// twisting resistance.
+/// @file test_contact.cpp
+/// Verification of the soft-sphere contact law against analytic solutions (ssdem.md §3.1, §3.3,
+/// §3.4): head-on restitution and contact time, gross-sliding oblique impact (rigid-body limits),
+/// slide-to-roll transition (5/7 rule), rolling resistance, incline limit arctan(mu_r beta),
+/// twisting resistance.
 #include <gtest/gtest.h>
 
 #include <cmath>

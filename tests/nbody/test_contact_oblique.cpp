@@ -1,36 +1,37 @@
-// Oblique impacts with the tangential spring + Coulomb friction (ssdem.md §1.3, §3.1, §3.3:
-// Chung & Ooi 2011 tests 4 and 5): a sphere hitting a flat wall at a sweep of incidence angles and of
-// tangential speeds, and two equal spheres.
-//
-// Analytic results used (sphere of mass m, radius R, I = (2/5) m R^2, no initial spin; v_n, v_t
-// incident normal and tangential speeds, psi = v_t / (mu v_n) the normalised incidence, J_t the
-// tangential impulse, j = J_t / (m mu v_n)):
-//  * The contact-point slip g = v_t - R w obeys dg/dt = -(7/2) F_T / m, the overlap
-//    d2x/dt2 = -F_N / m, so with the linear springs the tangential and normal frequencies are
-//    w_t / w_n = sqrt((7/2) kappa), kappa = k_t / k_n. For kappa = 2/7 (the default) they are
-//    equal and, undamped, F_T / F_N = kappa psi mu is constant while sticking. Hence (e_n = 1):
-//      tan(theta) <= (7/2) mu  (psi <= 7/2): the contact sticks throughout, the slip reverses
-//        (g' = -g), j = (4/7) psi;
-//      psi > 7/2: it slides throughout, j = mu J_n / (m mu v_n) = 1 + e_n = 2 (gross sliding).
-//    So R w' / (mu v_n) = (5/2) j = min((10/7) psi, 5) and v_t' / (mu v_n) = psi - j. The spring
-//    model reaches the sliding branch at psi = 7/2, half the rigid-body value (7/2)(1 + e_n).
-//  * Any kappa, undamped: sliding throughout (j = 2 exactly) iff the slider never recovers, i.e.
-//    kappa g(t) >= mu dx/dt for all t with g(t) = v_t - (7/2) mu v_n (1 - cos w_n t), which gives
-//    psi > psi_gs = 7/2 + |1/kappa - 7/2|. Below psi_gs the contact sticks part of the time and
-//    j < 2; there the result is not closed-form and is compared with a converged continuous-time
-//    1D integration of the same law (exact normal motion, tiny steps; wall_reference below).
-//  * No-slip limit (mu -> infinity), undamped: the slip is a harmonic oscillator cut off at the
-//    end of the contact, g' / g = cos(pi w_t / w_n) = cos(pi sqrt(3.5 kappa)) (cf. Schwartz+2012
-//    eq. 35, which adds the tangential dashpot).
-//  * With the normal dashpot (e_n < 1) the Coulomb limit uses |F_N|, which goes tensile after the
-//    rebound velocity peaks (ssdem.md §1.2-1.3), so in gross sliding
-//    J_t = mu int |F_N| dt = mu m (v_n (1 + e_n) + 2 (v_peak - e_n v_n)).
-// Two equal spheres: the same formulas in relative velocities with j = J_t / (m mu v_n,rel) =
-// min((2/7) psi, 1), and momentum and angular momentum (orbital + spin) conserved to round-off.
-// Discretisation: where the contact sticks or slides throughout, the result is second order in dt
-// (at 400 steps per contact the closed forms hold to 2e-4 of mu v_n, the rest being the lever arm
-// R - x); stick-slip transitions and the cut-off of a loaded spring at separation are first order
-// (sim - reference 1e-3 of mu v_n at 800 steps per contact, halving with dt).
+/// @file test_contact_oblique.cpp
+/// Oblique impacts with the tangential spring + Coulomb friction (ssdem.md §1.3, §3.1, §3.3:
+/// Chung & Ooi 2011 tests 4 and 5): a sphere hitting a flat wall at a sweep of incidence angles and of
+/// tangential speeds, and two equal spheres.
+///
+/// Analytic results used (sphere of mass m, radius R, I = (2/5) m R^2, no initial spin; v_n, v_t
+/// incident normal and tangential speeds, psi = v_t / (mu v_n) the normalised incidence, J_t the
+/// tangential impulse, j = J_t / (m mu v_n)):
+///  * The contact-point slip g = v_t - R w obeys dg/dt = -(7/2) F_T / m, the overlap
+///    d2x/dt2 = -F_N / m, so with the linear springs the tangential and normal frequencies are
+///    w_t / w_n = sqrt((7/2) kappa), kappa = k_t / k_n. For kappa = 2/7 (the default) they are
+///    equal and, undamped, F_T / F_N = kappa psi mu is constant while sticking. Hence (e_n = 1):
+///      tan(theta) <= (7/2) mu  (psi <= 7/2): the contact sticks throughout, the slip reverses
+///        (g' = -g), j = (4/7) psi;
+///      psi > 7/2: it slides throughout, j = mu J_n / (m mu v_n) = 1 + e_n = 2 (gross sliding).
+///    So R w' / (mu v_n) = (5/2) j = min((10/7) psi, 5) and v_t' / (mu v_n) = psi - j. The spring
+///    model reaches the sliding branch at psi = 7/2, half the rigid-body value (7/2)(1 + e_n).
+///  * Any kappa, undamped: sliding throughout (j = 2 exactly) iff the slider never recovers, i.e.
+///    kappa g(t) >= mu dx/dt for all t with g(t) = v_t - (7/2) mu v_n (1 - cos w_n t), which gives
+///    psi > psi_gs = 7/2 + |1/kappa - 7/2|. Below psi_gs the contact sticks part of the time and
+///    j < 2; there the result is not closed-form and is compared with a converged continuous-time
+///    1D integration of the same law (exact normal motion, tiny steps; wall_reference below).
+///  * No-slip limit (mu -> infinity), undamped: the slip is a harmonic oscillator cut off at the
+///    end of the contact, g' / g = cos(pi w_t / w_n) = cos(pi sqrt(3.5 kappa)) (cf. Schwartz+2012
+///    eq. 35, which adds the tangential dashpot).
+///  * With the normal dashpot (e_n < 1) the Coulomb limit uses |F_N|, which goes tensile after the
+///    rebound velocity peaks (ssdem.md §1.2-1.3), so in gross sliding
+///    J_t = mu int |F_N| dt = mu m (v_n (1 + e_n) + 2 (v_peak - e_n v_n)).
+/// Two equal spheres: the same formulas in relative velocities with j = J_t / (m mu v_n,rel) =
+/// min((2/7) psi, 1), and momentum and angular momentum (orbital + spin) conserved to round-off.
+/// Discretisation: where the contact sticks or slides throughout, the result is second order in dt
+/// (at 400 steps per contact the closed forms hold to 2e-4 of mu v_n, the rest being the lever arm
+/// R - x); stick-slip transitions and the cut-off of a loaded spring at separation are first order
+/// (sim - reference 1e-3 of mu v_n at 800 steps per contact, halving with dt).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,7 +1,8 @@
-// Verification of self-gravity: spline kernel, octree vs direct summation (uniform sphere,
-// clustered Plummer, coincident points), two-body orbits (energy error bounded and second order),
-// Plummer sphere energy conservation, multiple time-stepping error, momentum and angular momentum
-// drift with the tree (force-error level) against direct summation (round-off).
+/// @file test_gravity.cpp
+/// Verification of self-gravity: spline kernel, octree vs direct summation (uniform sphere,
+/// clustered Plummer, coincident points), two-body orbits (energy error bounded and second order),
+/// Plummer sphere energy conservation, multiple time-stepping error, momentum and angular momentum
+/// drift with the tree (force-error level) against direct summation (round-off).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,6 +1,7 @@
-// Neighbour list (contacts.hpp): no contact is ever missed by the incremental pair list, contact
-// history survives local updates bit for bit (against a list rebuilt from scratch every step, the
-// old behaviour), and on debris (few fast, many slow) full rebuilds are rare.
+/// @file test_neighbors.cpp
+/// Neighbour list (contacts.hpp): no contact is ever missed by the incremental pair list, contact
+/// history survives local updates bit for bit (against a list rebuilt from scratch every step, the
+/// old behaviour), and on debris (few fast, many slow) full rebuilds are rare.
 #include <gtest/gtest.h>
 
 #include <cmath>

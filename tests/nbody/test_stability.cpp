@@ -1,7 +1,8 @@
-// Stiff and extreme cases: springs 100x stiffer than the dt rule allows (refused), impacts that
-// would overlap more than a radius (clean stop, last good state kept), NaN detection, a dense pile
-// settling under its own gravity without energy creep, and a cold cloud collapsing into one
-// region (tree stays sane, energy never created).
+/// @file test_stability.cpp
+/// Stiff and extreme cases: springs 100x stiffer than the dt rule allows (refused), impacts that
+/// would overlap more than a radius (clean stop, last good state kept), NaN detection, a dense pile
+/// settling under its own gravity without energy creep, and a cold cloud collapsing into one
+/// region (tree stays sane, energy never created).
 #include <gtest/gtest.h>
 
 #include <cmath>

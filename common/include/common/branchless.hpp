@@ -1,11 +1,12 @@
+/// @file branchless.hpp
+/// Branch-free scalar helpers for hot loops over irregular data (particle positions, compensated
+/// sums), where the outcome of a comparison changes from element to element and a mispredicted
+/// jump costs ~15 cycles. GCC compiles a ternary on doubles to a jump on x86-64 (no blend
+/// instruction before SSE4.1, and it does not if-convert there), so the selects use SSE2 compare
+/// masks; on other targets (e.g. aarch64, which has fcsel) the compiler's own select is used.
+/// Measured effect: the hand-off ran 20-40 % slower on jittered than on lattice particle positions
+/// with ternaries, and at the same speed with these (handoff/README.md).
 #pragma once
-// Branch-free scalar helpers for hot loops over irregular data (particle positions, compensated
-// sums), where the outcome of a comparison changes from element to element and a mispredicted
-// jump costs ~15 cycles. GCC compiles a ternary on doubles to a jump on x86-64 (no blend
-// instruction before SSE4.1, and it does not if-convert there), so the selects use SSE2 compare
-// masks; on other targets (e.g. aarch64, which has fcsel) the compiler's own select is used.
-// Measured effect: the hand-off ran 20-40 % slower on jittered than on lattice particle positions
-// with ternaries, and at the same speed with these (handoff/README.md).
 #include <cstdint>
 #if defined(__SSE2__)
 #include <emmintrin.h>

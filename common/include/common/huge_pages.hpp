@@ -1,17 +1,18 @@
+/// @file huge_pages.hpp
+/// An allocator for large, short-lived work arrays that asks the kernel for transparent huge pages.
+///
+/// Why: a one-shot tool run (mpm2spheres on 1e6 particles) touches tens of MB of fresh memory, and on
+/// a virtual machine every first touch of a 4 KiB page is a slow, paravirtualised page fault (40 % of
+/// the hand-off's time was spent there, handoff/README.md). With `madvise(MADV_HUGEPAGE)` on a 2 MiB
+/// aligned block the kernel maps 2 MiB per fault where transparent huge pages are enabled in
+/// `madvise` or `always` mode (/sys/kernel/mm/transparent_hugepage/enabled); elsewhere the advice is
+/// ignored and the block behaves like any other. Blocks below `kHugeThreshold` use operator new.
+///
+/// The allocator is stateless and interchangeable; it changes where memory comes from, never values.
+///
+/// The tool executables that link `common_tool_new` (src/huge_page_new.cpp: mpm2spheres) apply the
+/// same policy to every block of 2 MiB or more through a replaced global operator new.
 #pragma once
-// An allocator for large, short-lived work arrays that asks the kernel for transparent huge pages.
-//
-// Why: a one-shot tool run (mpm2spheres on 1e6 particles) touches tens of MB of fresh memory, and on
-// a virtual machine every first touch of a 4 KiB page is a slow, paravirtualised page fault (40 % of
-// the hand-off's time was spent there, handoff/README.md). With `madvise(MADV_HUGEPAGE)` on a 2 MiB
-// aligned block the kernel maps 2 MiB per fault where transparent huge pages are enabled in
-// `madvise` or `always` mode (/sys/kernel/mm/transparent_hugepage/enabled); elsewhere the advice is
-// ignored and the block behaves like any other. Blocks below `kHugeThreshold` use operator new.
-//
-// The allocator is stateless and interchangeable; it changes where memory comes from, never values.
-//
-// The tool executables that link `common_tool_new` (src/huge_page_new.cpp: mpm2spheres) apply the
-// same policy to every block of 2 MiB or more through a replaced global operator new.
 #include <sys/mman.h>
 
 #include <cstddef>

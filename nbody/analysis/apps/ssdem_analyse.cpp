@@ -1,5 +1,6 @@
-// ssdem-analyse: reaccumulation analysis of ssdem.spheres snapshots (clumps, largest remnant,
-// bound mass, escaping mass and momentum, beta, damage profiles).
+/// @file ssdem_analyse.cpp
+/// ssdem-analyse: reaccumulation analysis of ssdem.spheres snapshots (clumps, largest remnant,
+/// bound mass, escaping mass and momentum, beta, damage profiles).
 #include <string>
 #include <vector>
 

@@ -1,3 +1,5 @@
+/// @file analyse_scene.cpp
+/// Implementation of analysis/analyse_scene.hpp (the header states the contract, and for physics the equations and sources).
 #include "analysis/analyse_scene.hpp"
 
 #include <algorithm>

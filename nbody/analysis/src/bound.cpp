@@ -1,4 +1,5 @@
-// Implementation of analysis/bound.hpp; the governing equations, sources and deviations are documented there.
+/// @file bound.cpp
+/// Implementation of analysis/bound.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/bound.hpp"
 
 #include <cmath>

@@ -1,4 +1,5 @@
-// Implementation of analysis/damage_profile.hpp; the governing equations, sources and deviations are documented there.
+/// @file damage_profile.cpp
+/// Implementation of analysis/damage_profile.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/damage_profile.hpp"
 
 #include <algorithm>

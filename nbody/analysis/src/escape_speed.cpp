@@ -1,4 +1,5 @@
-// Implementation of analysis/escape_speed.hpp; the governing equations are documented there.
+/// @file escape_speed.cpp
+/// Implementation of analysis/escape_speed.hpp; the governing equations are documented there.
 #include "analysis/escape_speed.hpp"
 
 #include <cmath>

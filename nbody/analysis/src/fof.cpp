@@ -1,4 +1,5 @@
-// Implementation of analysis/fof.hpp; the governing equations, sources and deviations are documented there.
+/// @file fof.cpp
+/// Implementation of analysis/fof.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/fof.hpp"
 
 #include <algorithm>

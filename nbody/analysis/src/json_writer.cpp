@@ -1,3 +1,5 @@
+/// @file json_writer.cpp
+/// Implementation of analysis/json_writer.hpp (the header states the contract, and for physics the equations and sources).
 #include "analysis/json_writer.hpp"
 
 #include <cmath>

@@ -1,4 +1,5 @@
-// Implementation of analysis/momentum.hpp; the governing equations, sources and deviations are documented there.
+/// @file momentum.cpp
+/// Implementation of analysis/momentum.hpp; the governing equations, sources and deviations are documented there.
 #include "analysis/momentum.hpp"
 
 #include <cmath>

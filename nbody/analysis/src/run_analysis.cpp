@@ -1,4 +1,5 @@
-// ssdem-analyse driver (analysis/run_analysis.hpp): reads snapshots, applies fof/bound/momentum/damage_profile, writes outputs.
+/// @file run_analysis.cpp
+/// ssdem-analyse driver (analysis/run_analysis.hpp): reads snapshots, applies fof/bound/momentum/damage_profile, writes outputs.
 #include "analysis/run_analysis.hpp"
 
 #include <spdlog/spdlog.h>
