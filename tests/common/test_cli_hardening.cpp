@@ -18,27 +18,16 @@
 #include "../handoff/particle_sets.hpp"
 #include "common/particle_file.hpp"
 #include "test_util.hpp"
+#include "tool_runner.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int rc = -1;
-  std::string out;
-};
-
+using Result = testutil::ToolResult;
 /// Run `exe args` (one OpenMP thread, 60 s at most: a FIFO must not block it).
-Result run(const std::string& exe, const std::string& args, const testutil::TempDir& dir) {
-  const std::string log = dir.file("log.txt");
-  const std::string cmd = "OMP_NUM_THREADS=1 timeout -s KILL 60 " + exe + " " + args + " > " + log + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  Result r;
-  r.rc = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  std::ifstream f(log);
-  r.out.assign(std::istreambuf_iterator<char>(f), {});
-  fs::remove(log);
-  return r;
+Result run(const std::string& exe, const std::string& args, const testutil::TempDir&) {
+  return testutil::run_tool(exe, args, 60);
 }
 
 std::vector<std::string> names_in(const fs::path& dir) {

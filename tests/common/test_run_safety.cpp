@@ -27,29 +27,15 @@
 #include "common/sphere_file.hpp"
 #include "common/status.hpp"
 #include "test_util.hpp"
+#include "tool_runner.hpp"
 
 namespace fs = std::filesystem;
 using namespace common;
 
 namespace {
 
-struct Result {
-  int rc = -1;
-  std::string out;
-};
-Result run(const std::string& exe, const std::string& args) {
-  static int counter = 0;
-  const fs::path log = fs::temp_directory_path() /
-                       ("run_safety_" + std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".log");
-  const std::string cmd = "OMP_NUM_THREADS=1 " + exe + " " + args + " > " + log.string() + " 2>&1";
-  const int rc = std::system(cmd.c_str());
-  Result r;
-  r.rc = WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-  std::ifstream f(log);
-  r.out.assign(std::istreambuf_iterator<char>(f), {});
-  fs::remove(log);
-  return r;
-}
+using Result = testutil::ToolResult;
+Result run(const std::string& exe, const std::string& args) { return testutil::run_tool(exe, args); }
 Result grav(const std::string& args) { return run(SSDEM_GRAV_EXE, args); }
 Result mpm(const std::string& args) { return run(MPM_FRAG_EXE, args); }
 Result handoff(const std::string& args) { return run(MPM2SPHERES_EXE, args); }
@@ -79,31 +65,9 @@ std::vector<std::string> names(const std::map<std::string, std::string>& m) {
 
 /// Start `exe --quiet --scene scene --set ...` in the background; it dies with us.
 pid_t spawn(const std::string& exe, const std::string& scene, const std::vector<std::string>& sets) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    prctl(PR_SET_PDEATHSIG, SIGKILL);
-    setenv("OMP_NUM_THREADS", "1", 1);
-    if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) _exit(98);
-    std::vector<std::string> args = {exe, "--quiet", "--scene", scene};
-    for (const auto& s : sets) {
-      args.push_back("--set");
-      args.push_back(s);
-    }
-    std::vector<char*> argv;
-    for (auto& a : args) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    execv(argv[0], argv.data());
-    _exit(99);
-  }
-  return pid;
+  return testutil::spawn_tool(exe, scene, sets);
 }
-bool wait_for(const std::function<bool()>& ready) {
-  for (int i = 0; i < 12000; ++i) {
-    if (ready()) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  return false;
-}
+using testutil::wait_for;
 std::string staging(const std::string& dir, pid_t pid) { return dir + "/.staging-" + std::to_string(pid); }
 
 /// The 19-sphere pile of test_cli_tools (self-gravity + contacts), snapshots every 10 s.
