@@ -47,8 +47,9 @@ struct Config {
   double t_max_factor = 20.0;  ///< stop at t_ramp + factor * (60 MPa / (E eps_dot))
   int progress_every = 0;      ///< print every n steps (0: never)
   std::string basalt_style = "tonge_ramesh";  ///< or "tillotson" (no damage: cost reference)
-  /// Flaw sampling of the basalt (tonge_ramesh::FlawSampling): per-particle Poisson or expected.
-  mpmfrag::tonge_ramesh::FlawSampling sampling = mpmfrag::tonge_ramesh::FlawSampling::poisson;
+  /// Flaw sampling of the basalt (tonge_ramesh::FlawSampling, flaws.hpp).
+  mpmfrag::tonge_ramesh::FlawSampling sampling = mpmfrag::tonge_ramesh::FlawSampling::scale_aware;
+  double block_count = 1.0;  ///< scale_aware: tonge_ramesh::Params::block_count
 };
 
 struct Sample {
@@ -106,6 +107,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   const std::size_t nd = disk.size(), n = nd + plat.size();
   tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
   tp.flaw_sampling = c.sampling;
+  tp.block_count = c.block_count;
   const double rho_p = 7850.0 * 1e3, Kp = 160e9, Gp = 80e9;
   ParticleSet ps;
   ps.resize(n, true);

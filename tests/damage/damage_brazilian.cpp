@@ -1,7 +1,7 @@
 /// @file damage_brazilian.cpp
 /// damage_brazilian: dynamic Brazilian disk of basalt (see brazilian.hpp).
 /// Usage: damage_brazilian <outdir> <rate_per_s> [cell_m=1e-4] [courant=0.3] [seed=1] [style]
-///        [sampling=poisson|expected]
+///        [sampling=scale_aware|poisson|expected] [flaw_block_count=1]
 /// Writes <outdir>/history_<rate>.csv, <outdir>/damage_<rate>.csv and one summary line
 /// (rate,eff_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s) on stdout.
 /// Exit 3 on a numerical failure (the partial history and damage field are written first).
@@ -26,15 +26,16 @@ int main(int argc, char** argv) {
   if (argc > 7) {
     const auto smp = common::choice_value(mpmfrag::tonge_ramesh::kFlawSamplings, argv[7]);
     if (!smp) {
-      std::fprintf(stderr, "sampling must be poisson or expected, got '%s'\n", argv[7]);
+      std::fprintf(stderr, "sampling must be scale_aware, poisson or expected, got '%s'\n", argv[7]);
       return 2;
     }
     c.sampling = *smp;
   }
+  if (argc > 8) c.block_count = std::atof(argv[8]);
   c.progress_every = 500;
   const auto r = brazilian::run(c);
   char tag[64];
-  std::snprintf(tag, sizeof tag, "%g_h%g_c%g", c.rate, c.h, c.courant);
+  std::snprintf(tag, sizeof tag, "%g_h%g_c%g_s%llu", c.rate, c.h, c.courant, (unsigned long long)c.seed);
   {
     std::FILE* f = std::fopen((out + "/history_" + tag + ".csv").c_str(), "w");
     if (!f) return 4;
