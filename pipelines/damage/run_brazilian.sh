@@ -8,7 +8,7 @@ set -euo pipefail
 exe=$1; out=$2; cell=$3; cfl=$4; shift 4
 smp=${SAMPLING:-scale_aware}; blk=${BLOCK:-1}; seed=${SEED:-1}
 mkdir -p "$out"
-[ -f "$out/summary.csv" ] || echo "nominal_rate,effective_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s,cell_m,courant,seed,sampling,block_count" > "$out/summary.csv"
+[ -f "$out/summary.csv" ] || echo "nominal_rate,effective_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s,centre_rate,cell_m,courant,seed,sampling,block_count" > "$out/summary.csv"
 for r in "$@"; do
   line=$("$exe" "$out" "$r" "$cell" "$cfl" "$seed" tonge_ramesh "$smp" "$blk" 2> "$out/log_${r}_h${cell}_c${cfl}_s${seed}.txt")
   echo "$line,$cell,$cfl,$seed,$smp,$blk" | tee -a "$out/summary.csv"
