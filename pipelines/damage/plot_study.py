@@ -71,10 +71,15 @@ def main():
     for key, pts in sorted(series.items()):
         pts = np.array(sorted(pts))
         slope = np.polyfit(np.log(pts[:, 0]), np.log(pts[:, 1]), 1)[0] if len(pts) > 1 else float("nan")
-        at = (np.exp(np.interp(np.log(ref), np.log(pts[:, 0]), np.log(pts[:, 1])))
-              if pts[0, 0] <= ref <= pts[-1, 0] else float("nan"))
-        lines.append(mdtable.row([key[0], "%g" % (key[1] * 1e3), "%g" % key[2], "%.3f" % slope,
-                                  "%.1f" % at if np.isfinite(at) else "outside"]))
+        if pts[0, 0] <= ref <= pts[-1, 0]:
+            at = "%.1f" % np.exp(np.interp(np.log(ref), np.log(pts[:, 0]), np.log(pts[:, 1])))
+        elif len(pts) > 1:  # short extrapolation along the group's own log-log fit
+            c = np.polyfit(np.log(pts[:, 0]), np.log(pts[:, 1]), 1)
+            at = "%.1f (extrapolated)" % np.exp(np.polyval(c, np.log(ref)))
+        else:
+            at = "-"
+        lines.append(mdtable.row([key[0], "%g" % (key[1] * 1e3), "%g" % key[2],
+                                  "%.3f" % slope if len(pts) > 1 else "-", at]))
         ax.errorbar(pts[:, 0], pts[:, 1], yerr=pts[:, 2], marker="o", capsize=3,
                     label="%s, h = %g mm, C = %g" % (key[0], key[1] * 1e3, key[2]))
     ax.set_xscale("log")

@@ -32,7 +32,7 @@ DAMAGE_BZ_SAMPLING ?= scale_aware
 MPM_FRAG = $(BUILD)/mpm/mpm-frag
 damage-brazilian: ## dynamic Brazilian disk scene (mpm-frag) vs rate, seeds as error bars
 	cmake --build $(BUILD) --target mpm-frag -j $(JOBS)
-	rm -rf $(RUNS)/damage-brazilian
+	rm -f $(RUNS)/damage-brazilian/scene_summary.csv
 	for s in $(DAMAGE_BZ_SEEDS); do SEED=$$s SAMPLING=$(DAMAGE_BZ_SAMPLING) $(DAMAGE_DIR)/run_scene.sh $(MPM_FRAG) \
 	  $(RUNS)/damage-brazilian $(DAMAGE_BZ_CELL) $(DAMAGE_BZ_RATES) || exit $$?; done
 	$(PY) $(DAMAGE_DIR)/plot_study.py $(RUNS)/damage-brazilian $(RUNS)/damage-brazilian/scene_summary.csv --name brazilian
@@ -41,11 +41,11 @@ damage-brazilian: ## dynamic Brazilian disk scene (mpm-frag) vs rate, seeds as e
 
 # Uniaxial compression of a 5 mm x 10 mm cylinder (pipelines/damage/compression.toml).
 DAMAGE_UCS_CELL ?= 4e-4
-DAMAGE_UCS_RATES ?= 30 100 300 1000
+DAMAGE_UCS_RATES ?= 100 300 1000
 DAMAGE_UCS_SEEDS ?= 1 2 3
 damage-compression: ## uniaxial compression cylinder scene (mpm-frag): compressive strength vs rate
 	cmake --build $(BUILD) --target mpm-frag -j $(JOBS)
-	rm -rf $(RUNS)/damage-compression
+	rm -f $(RUNS)/damage-compression/scene_summary.csv
 	for s in $(DAMAGE_UCS_SEEDS); do SEED=$$s SCENE=$(DAMAGE_DIR)/compression.toml $(DAMAGE_DIR)/run_scene.sh $(MPM_FRAG) \
 	  $(RUNS)/damage-compression $(DAMAGE_UCS_CELL) $(DAMAGE_UCS_RATES) || exit $$?; done
 	$(PY) $(DAMAGE_DIR)/plot_study.py $(RUNS)/damage-compression $(RUNS)/damage-compression/scene_summary.csv --name compression
@@ -58,7 +58,7 @@ DAMAGE_BZ_CONV_SEEDS ?= 1 2 3
 DAMAGE_BZ_CONV_CELLS ?= 4e-4 2e-4 1e-4
 damage-brazilian-convergence: ## Brazilian scene strength vs resolution / Courant vs wall time (new default sampling)
 	cmake --build $(BUILD) --target mpm-frag -j $(JOBS)
-	rm -rf $(RUNS)/damage-brazilian-convergence
+	rm -f $(RUNS)/damage-brazilian-convergence/scene_summary.csv
 	for h in $(DAMAGE_BZ_CONV_CELLS); do for s in $(DAMAGE_BZ_CONV_SEEDS); do \
 	  SEED=$$s $(DAMAGE_DIR)/run_scene.sh $(MPM_FRAG) $(RUNS)/damage-brazilian-convergence $$h $(DAMAGE_BZ_CONV_RATE) || exit $$?; \
 	  if [ $$h != 1e-4 ] || [ "$(DAMAGE_BZ_CONV_FINE_C15)" = 1 ]; then SEED=$$s TAG=_c0.15 EXTRA="--set solver.courant=0.15" \

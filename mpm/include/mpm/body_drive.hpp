@@ -3,7 +3,8 @@
 /// prescribed velocity by a relaxation body force, e.g. the platens of a Brazilian-disk or a
 /// compression test (pipelines/damage). For every particle p of the body
 ///     a_p = (v_T(t) - v_p) / tau + dv_T/dt,      v_T(t) = v_drive min(t / t_ramp, 1)
-/// (tau = drive.relaxation_time >> dt keeps the explicit relaxation stable; the ramp starts the
+/// (explicit relaxation: stable for dt < 2 tau, monotone for dt < tau, so tau = drive.relaxation_time
+/// should exceed the time step; the ramp starts the
 /// body without an impact wave). The force acts on the body's own particles only; the reaction
 /// of the rest of the system on the body is overcome, as by a testing machine's stiff frame.
 #pragma once
