@@ -51,6 +51,7 @@ struct Config {
   /// Flaw sampling of the basalt (tonge_ramesh::FlawSampling, flaws.hpp).
   mpmfrag::tonge_ramesh::FlawSampling sampling = mpmfrag::tonge_ramesh::FlawSampling::scale_aware;
   double block_count = 1.0;  ///< scale_aware: tonge_ramesh::Params::block_count
+  double platen_density = 7850.0 * 1e3;  ///< steel x 1e3 [kg/m^3] (the scene's bound is 1e5)
 };
 
 struct Sample {
@@ -110,7 +111,7 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
   tp.flaw_sampling = c.sampling;
   tp.block_count = c.block_count;
-  const double rho_p = 7850.0 * 1e3, Kp = 160e9, Gp = 80e9;
+  const double rho_p = c.platen_density, Kp = 160e9, Gp = 80e9;
   ParticleSet ps;
   ps.resize(n, true);
   const double V = h * h * h;

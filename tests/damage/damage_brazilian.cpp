@@ -1,7 +1,7 @@
 /// @file damage_brazilian.cpp
 /// damage_brazilian: dynamic Brazilian disk of basalt (see brazilian.hpp).
 /// Usage: damage_brazilian <outdir> <rate_per_s> [cell_m=1e-4] [courant=0.3] [seed=1] [style]
-///        [sampling=scale_aware|poisson|expected] [flaw_block_count=1]
+///        [sampling=scale_aware|poisson|expected] [flaw_block_count=1] [platen_density=7.85e6]
 /// Writes <outdir>/history_<rate>.csv, <outdir>/damage_<rate>.csv and one summary line
 /// (rate,eff_rate,peak_F_N,sigma_t_Pa,t_peak_s,steps,particles,wall_s,centre_rate) on stdout:
 /// nominal 2v/D, (d sigma_t/dt)/E and (d sigma_xx,centre/dt)/E over the 20-80 % rise.
@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
     c.sampling = *smp;
   }
   if (argc > 8) c.block_count = std::atof(argv[8]);
+  if (argc > 9) c.platen_density = std::atof(argv[9]);
   c.progress_every = 500;
   const auto r = brazilian::run(c);
   char tag[64];
