@@ -43,6 +43,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
 
   const std::size_t n = st.particles.size();
   Solver solver(st.solver, st.grid, std::move(st.particles), std::move(st.materials));
+  if (st.body_force) solver.set_body_force(st.body_force);  // [[body]] drive.*
   RunSummary sum;
   sum.particles = n;
   sum.bytes_per_particle = solver.bytes_per_particle();

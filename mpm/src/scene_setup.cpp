@@ -10,6 +10,7 @@
 #include <map>
 
 #include "common/finite.hpp"
+#include "mpm/body_drive.hpp"
 #include "common/status.hpp"
 
 namespace mpmfrag {
@@ -164,6 +165,11 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
              common::bounds::kMaxAngularVelocity,
              "initial rigid rotation about the primitive centre");
   b.add_int("ppc", 2, 1, 8, "particles per cell per axis");
+  b.add_bool("drive.enabled", false, "hold the body at drive.velocity (body_drive.hpp: platens of a lab test)");
+  b.add_vec3("drive.velocity", Eigen::Vector3d::Zero(), "m/s", -common::bounds::kMaxSpeed, common::bounds::kMaxSpeed,
+             "prescribed velocity of a driven body");
+  b.add_real("drive.ramp_time", 0.0, "s", 0.0, kBig, "driven body: linear ramp of the velocity from 0");
+  b.add_real("drive.relaxation_time", 1e-7, "s", 1e-15, kBig, "driven body: relaxation time (>> dt)", true);
   b.add_style_switch("shape", body_shape_styles());
   return s;
 }
@@ -235,6 +241,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   };
   std::vector<Gen> gen;
   std::vector<Primitive> prims;
+  std::vector<BodyDrive> drives;
   const std::size_t nb = sc.count("body");
   for (std::size_t i = 0; i < nb; ++i) {
     const common::Scene b = sc.element("body", i);
@@ -267,6 +274,9 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
           ++count;
         }
     if (count == 0) throw common::InputError(where, "", "body contains no particle (smaller than a particle spacing?)");
+    if (b.boolean("drive.enabled"))
+      drives.push_back({gen.size() - count, gen.size(), b.vec3("drive.velocity"), b.real("drive.ramp_time"),
+                        b.real("drive.relaxation_time")});
     prims.push_back(pr);
   }
   ParticleSet& ps = st.particles;
@@ -292,6 +302,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   // drop unused materials? keep them (empty ranges) so indices match the scene order.
   for (auto& s : slots) s.allocate_state();
   st.materials = std::move(slots);
+  st.body_force = make_drive_force(std::move(drives));
   return st;
 }
 

@@ -28,7 +28,7 @@ rows.sort(key=lambda r: float(r["nominal_rate"]))
 
 def centre_stress(r):
     """Largest mean sigma_xx within 0.5 mm of the centre over the run (NaN if not recorded)."""
-    tag = f"{float(r['nominal_rate']):g}_h{float(r['cell_m']):g}_c{float(r['courant']):g}"
+    tag = f"{float(r['nominal_rate']):g}_h{float(r['cell_m']):g}_c{float(r['courant']):g}_s{int(float(r.get('seed', 1)))}"
     try:
         h = np.genfromtxt(f"{out}/history_{tag}.csv", delimiter=",", names=True)
         if "sxx_center_Pa" not in h.dtype.names:
@@ -83,7 +83,7 @@ if rows:
     fig, axs = plt.subplots(1, len(sel), figsize=(5.2 * len(sel), 4.8), constrained_layout=True)
     axs = np.atleast_1d(axs)
     for a, r in zip(axs, sel):
-        tag = f"{float(r['nominal_rate']):g}_h{float(r['cell_m']):g}_c{float(r['courant']):g}"
+        tag = f"{float(r['nominal_rate']):g}_h{float(r['cell_m']):g}_c{float(r['courant']):g}_s{int(float(r.get('seed', 1)))}"
         d = np.loadtxt(f"{out}/damage_{tag}.csv", delimiter=",", skiprows=1)
         z = d[:, 2]
         m = z < float(r["cell_m"])  # first layer above the mid-plane (z ~ h/2)

@@ -2,6 +2,8 @@
 /// damage_rate_curve: single-element (one material point, homogeneous uniaxial stress) peak
 /// tensile and compressive strength of El Mir (2019) basalt against strain rate.
 /// Usage: damage_rate_curve <out.csv> [volume_m3=1e-9] [seeds=5] [rates...]
+/// Environment: TR_SAMPLING = flaw_sampling of the point (default poisson: the point's own
+/// flaws), TR_SPECIMEN = specimen_size [m] (default 0: every flaw population applies).
 /// Writes rows: mode,rate_per_s,seed,peak_stress_Pa,strain_at_peak,final_damage,steps.
 #include <cstdio>
 #include <cstdlib>
@@ -22,7 +24,17 @@ int main(int argc, char** argv) {
   std::vector<double> rates;
   for (int i = 4; i < argc; ++i) rates.push_back(std::atof(argv[i]));
   if (rates.empty()) rates = {1e1, 3e1, 1e2, 3e2, 1e3, 3e3, 1e4, 3e4, 1e5, 1e6};
-  const Params p = basalt_el_mir();
+  Params p = basalt_el_mir();
+  p.flaw_sampling = FlawSampling::poisson;
+  if (const char* e = std::getenv("TR_SAMPLING")) {
+    const auto smp = common::choice_value(kFlawSamplings, e);
+    if (!smp) {
+      std::fprintf(stderr, "TR_SAMPLING must be scale_aware, poisson or expected, got '%s'\n", e);
+      return 2;
+    }
+    p.flaw_sampling = *smp;
+  }
+  if (const char* e = std::getenv("TR_SPECIMEN")) p.specimen_size = std::atof(e);
   std::FILE* f = std::fopen(argv[1], "w");
   if (!f) {
     std::perror(argv[1]);

@@ -14,6 +14,7 @@ namespace {
 Params single(const FlawPopulation& f) {
   Params p = basalt_el_mir();
   p.populations = {f};
+  p.flaw_sampling = FlawSampling::poisson;
   return p;
 }
 }  // namespace
@@ -98,7 +99,8 @@ TEST(Flaws, PoissonRealisationStatistics) {
 }
 
 TEST(Flaws, LargePopulationAndTwoPopulationConcatenation) {
-  const Params p = basalt_el_mir();
+  Params p = basalt_el_mir();
+  p.flaw_sampling = FlawSampling::poisson;
   const int nb = p.total_bins();
   ASSERT_EQ(nb, 50);
   std::vector<double> om(nb), s(nb);

@@ -107,6 +107,8 @@ struct MaterialBatch {
   const double* volume0 = nullptr;     ///< n, initial volume [m^3]
   const double* energy = nullptr;      ///< n, specific internal energy e_n [J/kg]
   const std::uint64_t* id = nullptr;   ///< n, global particle ids
+  const double* x = nullptr;           ///< 3n, particle positions [m] (initial ones in initialize)
+  double specimen_size = 0.0;          ///< largest extent of this material's particles at t = 0 [m]
   double* const* state = nullptr;      ///< the style's state arrays (StyleInfo::state_fields order)
   double* wave_speed = nullptr;        ///< n, OUT: dilatational wave speed [m/s]
   double* bulk_speed = nullptr;        ///< n, OUT (if not null): bulk sound speed [m/s]

@@ -95,6 +95,7 @@ struct MaterialSlot {
   const StyleInfo* style = nullptr;          ///< registry entry
   std::shared_ptr<const Material> model;     ///< configured model
   std::size_t begin = 0, end = 0;            ///< particle range
+  double extent = 0.0;  ///< largest bounding-box edge of the range at initialize() + spacing [m]
   std::vector<std::vector<double>> state;    ///< style state arrays, (end-begin)*ncomp each
   /// Allocate and initialise the state arrays for the current range.
   void allocate_state();

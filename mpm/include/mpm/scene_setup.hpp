@@ -35,6 +35,7 @@ struct Setup {
   common::GridInfo grid;
   ParticleSet particles;
   std::vector<MaterialSlot> materials;
+  BodyForce body_force;  ///< velocity drives of the bodies ([[body]] drive.*; empty: none)
 };
 
 /// The full mpm-frag schema (material styles from `reg`).

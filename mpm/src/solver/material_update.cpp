@@ -51,6 +51,8 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
   b.volume0 = ps_.volume0.data() + ch.begin;
   b.energy = ps_.energy.data() + ch.begin;
   b.id = ps_.id.data() + ch.begin;
+  b.x = ps_.x.data() + 3 * ch.begin;
+  b.specimen_size = slot.extent;
   b.state = sp;
   b.wave_speed = ws;
   b.bulk_speed = cfg_.artificial_viscosity ? bs : nullptr;

@@ -54,6 +54,16 @@ void Solver::initialize() {
   std::fill(chunk_fail_.begin(), chunk_fail_.end(), 0);
   std::vector<double> L(9 * kChunk, 0.0), wpre(kChunk), ws(kChunk), bs(kChunk);
   for (std::size_t p = 0; p < ps_.size(); ++p) ps_.volume[p] = ps_.volume0[p] * det3(ps_.F.data() + 9 * p);
+  for (MaterialSlot& m : mats_) {  // body size of each material (flaw populations, issue 16)
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+    double dx = 0.0;
+    for (std::size_t p = m.begin; p < m.end; ++p) {
+      lo = lo.cwiseMin(Eigen::Vector3d(ps_.x[3 * p], ps_.x[3 * p + 1], ps_.x[3 * p + 2]));
+      hi = hi.cwiseMax(Eigen::Vector3d(ps_.x[3 * p], ps_.x[3 * p + 1], ps_.x[3 * p + 2]));
+      dx = std::max(dx, std::cbrt(ps_.volume0[p]));
+    }
+    m.extent = m.end > m.begin ? (hi - lo).maxCoeff() + dx : 0.0;
+  }
   for (std::size_t c = 0; c < nch; ++c) run_material_chunk(c, 0.0, L.data(), wpre.data(), ws.data(), bs.data());
   for (std::size_t c = 0; c < nch; ++c)
     if (chunk_fail_[c]) throw SolverFailure("initial state invalid: " + chunk_msg_[c], true);

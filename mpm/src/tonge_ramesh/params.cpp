@@ -14,6 +14,11 @@
 ///  * MaxDamageInc = 1e-4 (Uintah default), bin bias -3 (rational spacing, PTR method 7; El Mir's
 ///    value is unknown, -3 resolves an a = 3 tail far better than uniform bins).
 ///  * rate-independent granular flow (GPTimeConst = 0), JLoc = 5 (a flag only).
+///  * the large population applies to bodies of 1 m and more (min_specimen; issue 16): it stands
+///    for joints and fractures 2 cm-160 m long that a laboratory specimen, cut from intact rock,
+///    does not contain; 1 m = 100 x its smallest half-size (an assumption: the sources
+///    consulted do not say which populations El Mir et al. used in their lab-scale runs).
+///  * scale-aware flaw sampling with lambda_min = 1 and c_s = 4 (flaws.hpp; issue 16 study).
 ///  * flaw interaction (PTR DoFlawInteraction) is NOT implemented: the wing-crack driving stress is
 ///    the far-field principal stress (ARL-SR-0344 lists this as the cheaper switch-off option).
 #include "mpm/tonge_ramesh/params.hpp"
@@ -28,6 +33,7 @@ Params basalt_el_mir() {
   Params p;
   p.populations = {FlawPopulation{5e-6, 1e-3, 3.0, 2e12, 25, -3.0},
                    FlawPopulation{1e-2, 80.0, 3.0, 250.0, 25, -3.0}};
+  p.populations[1].min_specimen = 1.0;
   return p;
 }
 
@@ -46,12 +52,17 @@ void Params::validate() const {
   if (!(pa_P0 > 0 && pa_Pc > pa_P0)) bad("pa_Pc", "need 0 < pa_P0 < pa_Pc");
   if (!(pa_alpha0 > 1)) bad("pa_alpha0", "must be > 1");
   if (!(max_damage_inc > 0)) bad("max_damage_inc", "must be > 0");
+  if (!(block_count > 0)) bad("flaw_block_count", "must be > 0");
+  if (!(block_size_factor >= 0)) bad("flaw_block_size_factor", "must be >= 0");
+  if (!(specimen_size >= 0)) bad("specimen_size", "must be >= 0");
   for (const auto& f : populations) {
     if (!(f.s_min > 0 && f.s_max > f.s_min)) bad("flaw s_min/s_max", "need 0 < s_min < s_max");
     if (!(f.exponent > 0)) bad("flaw exponent", "must be > 0");
     if (!(f.density >= 0)) bad("flaw density", "must be >= 0");
     if (f.bins < 1) bad("flaw bins", "must be >= 1");
     if (f.bin_bias == 0) bad("flaw bin_bias", "must be nonzero");
+    if (!(f.min_specimen >= 0 && f.max_specimen >= f.min_specimen))
+      bad("flaw min_specimen/max_specimen", "need 0 <= min_specimen <= max_specimen");
   }
 }
 

@@ -3,7 +3,8 @@
 /// SoA particles (model equations: point_update.hpp, micromechanics.hpp, granular.hpp).
 /// Per batch, each particle is independent (no shared mutable data), so results do not depend
 /// on the thread count; flaws are sampled in initialize() from common::KeyedRng keyed by
-/// (scene seed + user seed, global particle id, material population), using volume0.
+/// (scene seed + user seed, global particle id or block of initial positions, material
+/// population), using volume0 and the material's body size (MaterialBatch::specimen_size).
 /// Energy: the solver owns e (material.hpp); the model reads e_n for the Tillotson pressure.
 #include "mpm/tonge_ramesh/style.hpp"
 
@@ -36,12 +37,13 @@ class TongeRamesh final : public Material {
     const int nb = p_.total_bins();
     tr::Params ps = p_;
     ps.flaw_seed = p_.flaw_seed ^ (b.seed * 0x9E3779B97F4A7C15ull);
+    if (!(ps.specimen_size > 0.0)) ps.specimen_size = b.specimen_size;
     for (std::size_t k = 0; k < b.n; ++k) {
       double* om = b.state[fOmega] + kTongeRameshBinSlots * k;
       double* sz = b.state[fSize] + kTongeRameshBinSlots * k;
       double* ln = b.state[fLen] + kTongeRameshBinSlots * k;
       for (int i = 0; i < kTongeRameshBinSlots; ++i) om[i] = sz[i] = ln[i] = 0.0;
-      if (p_.use_damage) tr::sample_flaws(ps, b.volume0[k], b.id[k], 0, om, sz);
+      if (p_.use_damage) tr::sample_flaws(ps, b.volume0[k], b.x ? b.x + 3 * k : nullptr, b.id[k], 0, om, sz);
       const tr::PointState st = tr::initial_state(p_, nb, om, sz);
       store(b, k, st);
       const double J = det3(b.F + 9 * k);
@@ -176,10 +178,19 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
   c.add_real("pa_alpha0", d.pa_alpha0, "1", 1.0, 100.0, "P-alpha alpha0", true);
   c.add_real("pa_Pc", d.pa_Pc, "Pa", 0.0, 1e15, "P-alpha full-compaction pressure", true);
   c.add_int("flaw_seed", 0, 0, 1LL << 62, "user part of the flaw-sampling seed (xor scene seed)");
-  c.add_choice("flaw_sampling", tr::FlawSampling::poisson, tr::kFlawSamplings,
-               "poisson: each particle draws its own flaws (Poisson counts from density x particle "
-               "volume, El Mir; strength depends on the cell size); expected: every particle carries "
-               "the expected density of every bin (continuum population, no particle-volume effect)");
+  c.add_choice("flaw_sampling", tr::FlawSampling::scale_aware, tr::kFlawSamplings,
+               "scale_aware: each bin is drawn per particle where a particle expects >= flaw_block_count "
+               "of its flaws, else once per block of particles about the flaws' spacing (shared by the "
+               "block; expected density where the block exceeds the specimen); poisson: each particle "
+               "draws its own flaws (El Mir/PTR; strength depends on the cell size); expected: every "
+               "particle carries the expected density of every bin (no heterogeneity)");
+  c.add_real("flaw_block_count", d.block_count, "1", 1e-6, 1e6,
+             "scale_aware: least expected number of a bin's flaws per sampling block");
+  c.add_real("flaw_block_size_factor", d.block_size_factor, "1", 0.0, 1e3,
+             "scale_aware: block edge >= this x the bin's largest flaw half-size");
+  c.add_real("specimen_size", 0.0, "m", 0.0, 1e12,
+             "body size for the populations' min/max_specimen (0: the largest extent of this "
+             "material's particles)");
   for (int ip = 0; ip < 2; ++ip) {
     const std::string pre = ip == 0 ? "small_" : "large_";
     const tr::FlawPopulation& f = d.populations[ip];
@@ -189,6 +200,10 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
     c.add_real(pre + "density", f.density, "1/m^3", 0.0, 1e30, pre + "flaws: number density (0: off)");
     c.add_int(pre + "bins", f.bins, 1, kTongeRameshBinSlots, pre + "flaws: bins");
     c.add_real(pre + "bin_bias", f.bin_bias, "1", -100.0, 100.0, pre + "flaws: bin bias (1 uniform, <0 rational)");
+    c.add_real(pre + "min_specimen", f.min_specimen, "m", 0.0, 1e30,
+               pre + "flaws: realised only in bodies at least this large");
+    c.add_real(pre + "max_specimen", f.max_specimen, "m", 0.0, 1e30,
+               pre + "flaws: realised only in bodies at most this large");
   }
   s.state_fields = tonge_ramesh_state_fields();
   s.create = [](const common::Scene& e) -> std::unique_ptr<Material> {
@@ -221,6 +236,9 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
     p.pa_Pc = e.real("pa_Pc");
     p.flaw_seed = static_cast<std::uint64_t>(e.integer("flaw_seed"));
     p.flaw_sampling = e.choice("flaw_sampling", tr::kFlawSamplings);
+    p.block_count = e.real("flaw_block_count");
+    p.block_size_factor = e.real("flaw_block_size_factor");
+    p.specimen_size = e.real("specimen_size");
     p.populations.clear();
     for (const std::string pre : {"small_", "large_"}) {
       tr::FlawPopulation f;
@@ -230,6 +248,8 @@ void register_tonge_ramesh(MaterialRegistry& reg) {
       f.density = e.real(pre + "density");
       f.bins = static_cast<int>(e.integer(pre + "bins"));
       f.bin_bias = e.real(pre + "bin_bias");
+      f.min_specimen = e.real(pre + "min_specimen");
+      f.max_specimen = e.real(pre + "max_specimen");
       if (f.density > 0.0) p.populations.push_back(f);
     }
     return std::make_unique<TongeRamesh>(p);

@@ -22,6 +22,11 @@ struct FlawPopulation {
   double density = 2e12;   ///< total flaw number density eta over [s_min, s_max] [1/m^3]
   int bins = 25;           ///< number of size bins
   double bin_bias = -3.0;  ///< bin spacing: 1 uniform, b>0 power, b<0 rational (PTR method 7)
+  /// Specimen sizes the population applies to [m]: it is realised only in a body whose size
+  /// (flaws.hpp, population_applies) lies in [min_specimen, max_specimen]; otherwise its bins
+  /// stay empty. A lab specimen cut from intact rock does not hold the joints of an outcrop.
+  double min_specimen = 0.0;
+  double max_specimen = 1e30;
 };
 
 /// Cold/compressed Tillotson constants (Tillotson 1962; Benz & Asphaug 1999 basalt values).
@@ -34,15 +39,21 @@ struct TillotsonCold {
 };
 
 /// How a population's bins are filled for one particle (flaws.hpp).
+///  * scale_aware (default): each bin is realised at its own scale: Poisson counts per particle
+///    where a particle expects >= block_count flaws of the bin (and is >= block_size_factor x the
+///    bin's largest flaw), else one Poisson draw per cubic block of particles of the smallest edge
+///    that satisfies both, shared by the particles of the block (keyed by the block's position
+///    index); the expected density where such a block is larger than the specimen.
 ///  * poisson: each particle draws its own flaws, n_k ~ Poisson(eta V Delta F_k), omega_k = n_k/V
 ///    (PTR RandomizeMethod 7; the El Mir/issue default). The largest flaw a particle can hold
 ///    shrinks with its volume, so the strength depends on the cell size.
 ///  * expected: every particle carries the expected density of every bin, omega_k = eta Delta F_k,
 ///    s_k = E[s^3 | bin k]^(1/3) (PTR's non-random option, RandomizeFlawDist = 0, with the same bin
 ///    edges): the flaw population is a property of the continuum, independent of particle volume.
-enum class FlawSampling { poisson, expected };
+enum class FlawSampling { scale_aware, poisson, expected };
 /// Scene spellings of FlawSampling (tonge_ramesh key flaw_sampling).
-inline constexpr std::array kFlawSamplings{common::Choice{"poisson", FlawSampling::poisson},
+inline constexpr std::array kFlawSamplings{common::Choice{"scale_aware", FlawSampling::scale_aware},
+                                           common::Choice{"poisson", FlawSampling::poisson},
                                            common::Choice{"expected", FlawSampling::expected}};
 
 /// All model parameters (SI). Members read from the scene carry the name of their key in the
@@ -75,7 +86,10 @@ struct Params {
   double pa_alpha0 = 1.25;      ///< P–alpha distension alpha_e at P_e ("alpha0") [-]
   double pa_Pc = 200e6;         ///< P–alpha full-compaction pressure P_c [Pa]
   std::uint64_t flaw_seed = 0;  ///< user part of the flaw-sampling seed
-  FlawSampling flaw_sampling = FlawSampling::poisson;  ///< per-particle realisation or expected density
+  FlawSampling flaw_sampling = FlawSampling::scale_aware;  ///< how bins are realised (flaws.hpp)
+  double block_count = 1.0;        ///< scale_aware: expected flaws per sampling volume, lambda_min [-]
+  double block_size_factor = 4.0;  ///< scale_aware: sampling-volume edge >= this x s_h of the bin [-]
+  double specimen_size = 0.0;      ///< body size for population_applies [m]; 0: not known (all apply)
 
   /// Total bin count over all populations.
   int total_bins() const {

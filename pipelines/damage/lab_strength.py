@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""Strength from an mpm-frag run of pipelines/damage/brazilian.toml or compression.toml (issue 16).
+
+usage: lab_strength.py <run directory> [label]
+
+Reads the snapshots <prefix>_NNNNNN.h5 of the run and the resolved scene in their /provenance:
+  F(t)      = 2 x sum over disk particles with |y| < b of -sigma_yy V / (2 b),  b = 1 mm
+              (force across the central band; x2 for the mirrored half thickness)
+  sigma_t   = 2 F / (pi D t)   (Hondros 1959 / ISRM), D and t from the disk particles at t = 0
+  nominal   = 2 v / D          (v = the top platen's drive speed, as experiments report)
+  effective = (d sigma_t/dt) / E and (d sigma_xx,centre/dt) / E over the 20-80 % rise to the peak
+              (E = 9 K G / (3 K + G) of the basalt), sigma_xx,centre = mean over |r| < 0.5 mm.
+Compression (a scene without a body named "disk"): sigma(t) = -(volume-weighted mean sigma_zz of
+the specimen particles with z < L/4), i.e. F/A across the lower half of the half-length model;
+nominal = v / (L/2); the strength is the peak of sigma; effective = centre rate = (d sigma/dt)/E.
+Prints one CSV row (COLUMNS without wall_s, which run_scene.sh appends) and writes
+<run directory>/strength_history.csv; `--header` prints the column names.
+"""
+import glob
+import math
+import os
+import sys
+import tomllib
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "lib"))
+import numpy as np  # noqa: E402
+from h5io import h5py, provenance  # noqa: E402
+
+COLUMNS = ["label", "cell_m", "courant", "seed", "sampling", "nominal_rate", "effective_rate", "centre_rate",
+           "peak_F_N", "sigma_t_Pa", "t_peak_s", "snapshots", "wall_s"]
+
+
+def main():
+    if sys.argv[1] == "--header":
+        print(",".join(COLUMNS))
+        return
+    run = sys.argv[1]
+    files = sorted(f for f in glob.glob(os.path.join(run, "*.h5"))
+                   if os.path.basename(f).rsplit("_", 1)[-1][:6].isdigit())
+    if not files:
+        sys.exit(f"lab_strength.py: no snapshots in {run}")
+    with h5py.File(files[0], "r") as f:
+        scene = tomllib.loads(provenance(f)["scene"])
+    mats = scene["material"]
+    basalt = next(i for i, m in enumerate(mats) if m["model"] == "tonge_ramesh")
+    m = mats[basalt]
+    K, G = m.get("A", 26.7e9), m.get("shear_modulus", 22.7e9)
+    E = 9 * K * G / (3 * K + G)
+    h = scene["grid"]["cell_size"]
+    v = max(max(abs(c) for c in b["drive"]["velocity"]) for b in scene["body"]
+            if b.get("drive", {}).get("enabled"))
+    brazilian = any(b.get("name") == "disk" for b in scene["body"])
+    band = 1e-3
+    rows, geo = [], None
+    for path in files:
+        with h5py.File(path, "r") as f:
+            time = float(f.attrs["time"])
+            p = f["particles"]
+            sel = p["material"][...] == basalt
+            x = p["position"][...][sel]
+            s = p["stress"][...][sel]
+            V = p["volume"][...][sel]
+        if geo is None:  # D (or 2R) and the modelled half thickness (or half length) at t = 0
+            geo = (x[:, 0].max() - x[:, 0].min() + h, x[:, 2].max() + 0.5 * h)
+        if brazilian:
+            D, t = geo[0], 2 * geo[1]
+            mid = np.abs(x[:, 1]) < band
+            F = 2 * np.sum(-s[mid, 1] * V[mid]) / (2 * band)
+            cen = x[:, 0] ** 2 + x[:, 1] ** 2 < 0.25e-6
+            rows.append((time, F, 2 * F / (math.pi * D * t), s[cen, 0].mean()))
+        else:
+            low = x[:, 2] < 0.5 * geo[1]
+            sig = np.sum(-s[low, 2] * V[low]) / np.sum(V[low])
+            rows.append((time, sig * math.pi * geo[0] ** 2 / 4, sig, sig))
+    nominal = 2 * v / geo[0] if brazilian else v / geo[1]
+    a = np.array(rows)
+    ip = int(np.argmax(a[:, 2]))
+    peak = a[ip, 2]
+    rise = a[: ip + 1]
+    i20 = int(np.argmax(rise[:, 2] >= 0.2 * peak))
+    i80 = int(np.argmax(rise[:, 2] >= 0.8 * peak))
+    dt = rise[i80, 0] - rise[i20, 0]
+    eff = (rise[i80, 2] - rise[i20, 2]) / (E * dt) if dt > 0 else float("nan")
+    cr = (rise[i80, 3] - rise[i20, 3]) / (E * dt) if dt > 0 else float("nan")
+    with open(os.path.join(run, "strength_history.csv"), "w") as f:
+        f.write("t_s,F_N,sigma_Pa,centre_stress_Pa\n")
+        for r in rows:
+            f.write("%.6e,%.6e,%.6e,%.6e\n" % r)
+    label = sys.argv[2] if len(sys.argv) > 2 else os.path.basename(os.path.normpath(run))
+    out = [label, h, scene.get("solver", {}).get("courant", 0.3), scene.get("run", {}).get("seed", 0), m.get("flaw_sampling", "scale_aware"),
+           nominal, eff, cr, a[ip, 1], peak, a[ip, 0], len(files)]
+    line = ",".join(str(c) if isinstance(c, str) else "%.6g" % c for c in out)
+    print(line)
+    if ip == len(rows) - 1:
+        print("warning: the load was still rising at the last snapshot (raise time.end)", file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
