@@ -128,24 +128,25 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
     h5::Handle hg = h5::create_group(g, "history");
     const std::size_t P = st.history.size();
     std::vector<std::uint64_t> ia(P), ib(P);
-    std::vector<double> S(3 * P), no(3 * P), th(3 * P), q(P);
     for (std::size_t p = 0; p < P; ++p) {
-      const auto& r = st.history[p];
-      ia[p] = r.id_a;
-      ib[p] = r.id_b;
-      for (int k = 0; k < 3; ++k) {
-        S[3 * p + k] = r.S[k];
-        no[3 * p + k] = r.n_old[k];
-        th[3 * p + k] = r.theta_r[k];
-      }
-      q[p] = r.theta_q;
+      ia[p] = st.history[p].id_a;
+      ib[p] = st.history[p].id_b;
     }
     h5::write_dataset(hg, "id_a", ia.data(), P, 1, "1");
     h5::write_dataset(hg, "id_b", ib.data(), P, 1, "1");
-    h5::write_dataset(hg, "S", S.data(), P, 3, "m");
-    h5::write_dataset(hg, "n_old", no.data(), P, 3, "1");
-    h5::write_dataset(hg, "theta_r", th.data(), P, 3, "rad");
-    h5::write_dataset(hg, "theta_q", q.data(), P, 1, "rad");
+    // one dataset per history field of the contact table (contact/table.hpp)
+    std::vector<double> buf;
+    for (int k = 0; k < kHistVec; ++k) {
+      buf.assign(3 * P, 0.0);
+      for (std::size_t p = 0; p < P; ++p)
+        for (int c = 0; c < 3; ++c) buf[3 * p + c] = st.history[p].v[k][c];
+      h5::write_dataset(hg, kHistVecFields[k].name, buf.data(), P, 3, kHistVecFields[k].unit);
+    }
+    for (int k = 0; k < kHistScal; ++k) {
+      buf.assign(P, 0.0);
+      for (std::size_t p = 0; p < P; ++p) buf[p] = st.history[p].q[k];
+      h5::write_dataset(hg, kHistScalFields[k].name, buf.data(), P, 1, kHistScalFields[k].unit);
+    }
   };
   const common::SphereSet set = to_sphere_set(st.sp, st.time, st.step);
   common::check_output_spheres(set, path);
@@ -179,19 +180,23 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
     const long long P = static_cast<long long>(ia.size());
     const auto ib = h5::read_u64(f, "/ssdem_state/history/id_b", P, 1, path);
-    const auto S = h5::read_doubles(f, "/ssdem_state/history/S", P, 3, path);
-    const auto no = h5::read_doubles(f, "/ssdem_state/history/n_old", P, 3, path);
-    const auto th = h5::read_doubles(f, "/ssdem_state/history/theta_r", P, 3, path);
-    const auto q = h5::read_doubles(f, "/ssdem_state/history/theta_q", P, 1, path);
     st.history.resize(ia.size());
     for (std::size_t p = 0; p < ia.size(); ++p) {
-      auto& r = st.history[p];
-      r.id_a = ia[p];
-      r.id_b = ib[p];
-      r.S = Vec3(S[3 * p], S[3 * p + 1], S[3 * p + 2]);
-      r.n_old = Vec3(no[3 * p], no[3 * p + 1], no[3 * p + 2]);
-      r.theta_r = Vec3(th[3 * p], th[3 * p + 1], th[3 * p + 2]);
-      r.theta_q = q[p];
+      st.history[p].id_a = ia[p];
+      st.history[p].id_b = ib[p];
+    }
+    // every field of the table that the file holds (a field it lacks stays zero)
+    for (int k = 0; k < kHistVec; ++k) {
+      const std::string name = std::string("/ssdem_state/history/") + kHistVecFields[k].name;
+      if (!h5::exists(f, name)) continue;
+      const auto v = h5::read_doubles(f, name, P, 3, path);
+      for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].v[k] = Vec3(v[3 * p], v[3 * p + 1], v[3 * p + 2]);
+    }
+    for (int k = 0; k < kHistScal; ++k) {
+      const std::string name = std::string("/ssdem_state/history/") + kHistScalFields[k].name;
+      if (!h5::exists(f, name)) continue;
+      const auto v = h5::read_doubles(f, name, P, 1, path);
+      for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].q[k] = v[p];
     }
   };
   const common::SphereSet s = common::read_sphere_set(path, hook);

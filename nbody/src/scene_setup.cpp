@@ -228,8 +228,8 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       if (!sc.given("contact.twisting.mu_t")) p.mu_t = g.mu_t;
       if (!sc.given("contact.beta")) p.beta = g.beta;
     }
-    if (p.kn <= 0.0) {
-      double vmax = sc.real("contact.vmax");
+    double vmax = sc.real("contact.vmax");
+    if (p.kn <= 0.0 || p.has(kPartHertz)) {  // Hertz: vmax sets the contact time (dt rule)
       if (vmax <= 0.0) {
         double R = 0;
         for (std::size_t i = 0; i < sp.size(); ++i) R = std::max(R, (sp.x[i] - com).norm() + sp.s[i]);
@@ -240,6 +240,12 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
         os << "k_n rule: vmax = " << vmax << " m/s (1.2 v_esc or 2 max|v|)\n";
       }
       if (!(vmax > 0)) throw common::InputError(sc.where("contact.vmax") + ": cannot derive k_n (no speed scale); give contact.normal.kn or contact.vmax");
+      if (p.has(kPartHertz)) {
+        p.vmax = vmax;
+        os << "Hertz contact time at vmax = " << vmax << " m/s\n";
+      }
+    }
+    if (p.kn <= 0.0 && !p.has(kPartHertz)) {
       const DtAdvice a = choose_kn_dt(mmax, smin, vmax, (p.parts & kPartDamping) ? p.en : 1.0,
                                       sc.real("contact.overlap_fraction"),
                                       sc.real("time.steps_per_contact"));
