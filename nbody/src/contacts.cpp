@@ -181,7 +181,7 @@ double ContactSystem::elastic_energy(const Spheres& sp) const {
         if (!wh_.active[s]) continue;
         const double x = sp.s[k] - (sp.x[k] - walls_[w].point).dot(walls_[w].normal);
         if (x <= 0.0) continue;
-        e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[k], wh_.row(s));
+        e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[k], wh_.row(s), true);
       }
     return e;
   });

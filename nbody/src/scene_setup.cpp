@@ -251,6 +251,16 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
                                       sc.real("time.steps_per_contact"));
       p.kn = a.kn;
       os << "k_n = " << p.kn << " N/m (kinetic rule, m = " << mmax << " kg, s = " << smin << " m)\n";
+      if (p.has(kPartCohesion)) {  // cohesion criterion: F_c,max / x_max (contact/cohesion.hpp)
+        double smax = 0;
+        for (double s : sp.s) smax = std::max(smax, s);
+        const double kc = p.sigma_c * M_PI * p.beta * p.beta * smax * smax /
+                          (sc.real("contact.overlap_fraction") * smin);
+        if (kc > p.kn) {
+          p.kn = kc;
+          os << "k_n = " << p.kn << " N/m (cohesion rule F_c,max / x_max)\n";
+        }
+      }
     }
     c.contact = p;
     for (std::size_t w = 0; w < sc.count("wall"); ++w) {

@@ -210,14 +210,17 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
 /// Elastic energy stored in one contact of overlap x and reduced radius Rbar: the sum of the
 /// enabled parts' energies (normal law first, table order).
 template <unsigned PARTS>
-inline double contact_elastic_energy(const ContactCoeffs& c, double x, double Rbar, HistRow hist) {
+inline double contact_elastic_energy(const ContactCoeffs& c, double x, double Rbar, HistRow hist,
+                                     bool wall = false) {
   return contact_kernel::energy<PARTS, contact_kernel::NormalLaw<PARTS>>(ContactTable{}, c,
-                                                                         EnergyCtx{x, Rbar}, hist);
+                                                                         EnergyCtx{x, Rbar, wall}, hist);
 }
 /// The same for a run-time set of parts.
 inline double contact_elastic_energy(const ContactCoeffs& c, unsigned parts, double x, double Rbar,
-                                     HistRow hist) {
-  return dispatch_parts(parts, [&](auto P) { return contact_elastic_energy<decltype(P)::value>(c, x, Rbar, hist); });
+                                     HistRow hist, bool wall = false) {
+  return dispatch_parts(parts, [&](auto P) {
+    return contact_elastic_energy<decltype(P)::value>(c, x, Rbar, hist, wall);
+  });
 }
 
 }  // namespace ssdem

@@ -5,7 +5,8 @@
 /// The parts and their equations are in nbody/include/ssdem/contact/<part>.hpp:
 ///   normal (linear spring, S12 eq. 3) | hertz (Hertz-Mindlin, Johnson 1985; Tsuji et al. 1992)
 ///   damping (S12 eqs 13, 15-16), tangential (S12 eqs 6-7, 14, 17-19),
-///   rolling and twisting (Zhang et al. 2017, spring-dashpot-slider)
+///   rolling and twisting (Zhang et al. 2017, spring-dashpot-slider), cohesion (sigma_c over
+///   the contact area pi (beta Rbar)^2, spheres and walls)
 /// (S12 = Schwartz, Richardson & Michel 2012, Granular Matter 14:363). Every part declares its
 /// parameters as a common::Schema under `contact.<part>.`; a part that is not listed in
 /// `contact.parts` costs nothing (one pair kernel is compiled per valid set of parts).

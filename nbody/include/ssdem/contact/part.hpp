@@ -88,6 +88,7 @@ struct PairCtx {
 struct EnergyCtx {
   double x;     ///< overlap [m]
   double Rbar;  ///< reduced radius [m]
+  bool wall = false;  ///< a sphere-wall contact
 };
 
 /// Defaults for the hooks a part does not need.

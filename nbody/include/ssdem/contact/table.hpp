@@ -12,6 +12,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "ssdem/contact/cohesion.hpp"
 #include "ssdem/contact/damping.hpp"
 #include "ssdem/contact/normal_hertz.hpp"
 #include "ssdem/contact/normal_linear.hpp"
@@ -33,7 +34,8 @@ using ContactTable = PartList<LinearNormal,  // normal law (default of the norma
                               Damping,
                               Tangential,
                               Rolling,
-                              Twisting>;
+                              Twisting,
+                              Cohesion>;
 // ----------------------------------------------------------------------------
 
 namespace contact_table {
