@@ -112,6 +112,14 @@ common::Schema ssdem_schema() {
   s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin (spheres moving more than skin/2 are re-inserted); 0 = 0.25 x max radius");
   s.add_real("contact.max_overlap_fraction", 1.0, "1", 0.0, 10.0,
              "overlap / smaller radius that stops the run with exit code 3", true);
+  // parallel bonds of a bonded body (bonds.hpp)
+  s.add_bool("bonds.generate", false, "bond every pair of spheres closer than s_a + s_b + bonds.gap min(s) (a bonded body)");
+  s.add_real("bonds.kn", 0.0, "N/m^3", 0.0, 1e30, "bond normal stiffness per unit area (E = kn L0 of the equivalent beam)");
+  s.add_real("bonds.ks", 0.0, "N/m^3", 0.0, 1e30, "bond shear stiffness per unit area");
+  s.add_real("bonds.sigma_c", 1e300, "Pa", 0.0, 1e300, "bond tensile strength");
+  s.add_real("bonds.tau_c", 1e300, "Pa", 0.0, 1e300, "bond shear strength");
+  s.add_real("bonds.radius_ratio", 1.0, "1", 0.0, 10.0, "bond radius / smaller sphere radius");
+  s.add_real("bonds.gap", 0.01, "1", 0.0, 1.0, "largest gap bonded by the generator, / smaller radius");
   {
     auto& w = s.add_table_array("wall", "infinite plane walls");
     w.add_vec3("point", Eigen::Vector3d::Zero(), "m", -inf, inf, "a point on the plane");
@@ -269,6 +277,17 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
     }
     c.skin = sc.real("contact.skin");
     c.max_overlap_frac = sc.real("contact.max_overlap_fraction");
+    if (sc.boolean("bonds.generate")) {
+      BondParams bp;
+      bp.kn = sc.real("bonds.kn");
+      bp.ks = sc.real("bonds.ks");
+      bp.sigma_c = sc.real("bonds.sigma_c");
+      bp.tau_c = sc.real("bonds.tau_c");
+      bp.radius_ratio = sc.real("bonds.radius_ratio");
+      bp.gap = sc.real("bonds.gap");
+      c.bonds = generate_bonds(sp, bp);
+      os << c.bonds.size() << " bonds generated\n";
+    }
     const double tau_min = shortest_contact_time(p, sp, !c.walls.empty());
     if (c.dt <= 0.0) {
       c.dt = tau_min / sc.real("time.steps_per_contact");

@@ -174,27 +174,13 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
         if (scal_column_enabled(i, PARTS)) cols.q[i][r] = 0.0;
     } else if constexpr (tcols.size() > 0) {
       // Transport the tangent-plane history with the contact frame.
-      Vec3 nbar = no + n;
-      const double nb = nbar.norm();
-      if (nb > 0.0) {
-        nbar /= nb;
-        double ang;
-        if constexpr (WALL)
-          ang = 0.5 * h * wp_half.dot(nbar);
-        else
-          ang = 0.5 * h * (wp_half + wn_half).dot(nbar);
-        if (ang != 0.0) {
-          const double ca = std::cos(ang), sa = std::sin(ang);
-          for (int i : tcols) cols.v[i][r] = rotate_about(cols.v[i][r], nbar, ca, sa);
-        }
-      }
-      const Vec3 ax = no.cross(n);
-      const double sn2 = ax.norm();
-      if (sn2 > 1e-300) {
-        const Vec3 kk = ax / sn2;
-        const double cc = no.dot(n);
-        for (int i : tcols) cols.v[i][r] = rotate_about(cols.v[i][r], kk, cc, sn2);
-      }
+      Vec3 wsum;
+      if constexpr (WALL)
+        wsum = wp_half;
+      else
+        wsum = wp_half + wn_half;
+      const FrameTransport tr(no, n, wsum, h);
+      for (int i : tcols) cols.v[i][r] = tr(cols.v[i][r]);
       no = n;
     }
   }

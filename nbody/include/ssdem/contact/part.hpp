@@ -19,7 +19,9 @@
 /// The table (table.hpp) lists the parts; the kernel (contact_law.hpp) calls the phases in table
 /// order. Equations and sources are in each part's header.
 #pragma once
+#include <Eigen/Geometry>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <string>
 
@@ -110,5 +112,42 @@ struct PartBase {
 inline Vec3 rotate_about(const Vec3& v, const Vec3& k, double c, double s) {
   return v * c + k.cross(v) * s + k * (k.dot(v) * (1.0 - c));
 }
+
+/// Transport of tangent-plane history with a contact frame whose normal turned from n_old to n
+/// over one step (Schwartz+2012 eqs 17-19; pkdgrav DoDEM): rotate about nbar = (n_old + n)/|.|
+/// by (h/2) w_sum.nbar (w_sum: the sum of the two half-step spins; a wall: the sphere's), then by
+/// the rotation taking n_old to n (assumes a turn below 90 degrees). Used by the contact kernel
+/// and by the bonds.
+struct FrameTransport {
+  bool spin = false, tilt = false;
+  Vec3 nbar, k;
+  double ca = 1, sa = 0, cc = 1, sn = 0;
+  FrameTransport(const Vec3& no, const Vec3& n, const Vec3& w_sum, double h) {
+    Vec3 nb = no + n;
+    const double l = nb.norm();
+    if (l > 0.0) {
+      nb /= l;
+      const double ang = 0.5 * h * w_sum.dot(nb);
+      if (ang != 0.0) {
+        spin = true;
+        nbar = nb;
+        ca = std::cos(ang);
+        sa = std::sin(ang);
+      }
+    }
+    const Vec3 ax = no.cross(n);
+    sn = ax.norm();
+    if (sn > 1e-300) {
+      tilt = true;
+      k = ax / sn;
+      cc = no.dot(n);
+    }
+  }
+  Vec3 operator()(Vec3 v) const {
+    if (spin) v = rotate_about(v, nbar, ca, sa);
+    if (tilt) v = rotate_about(v, k, cc, sn);
+    return v;
+  }
+};
 
 }  // namespace ssdem
