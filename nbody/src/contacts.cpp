@@ -34,6 +34,8 @@ ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, d
     : params_(p), coeffs_(p), walls_(std::move(walls)), skin_(skin), ph_(p.parts), wh_(p.parts) {
   if (!(p.parts & kPartHertz) && !(p.kn > 0.0)) throw common::InputError("contact.normal.kn must be > 0");
   if ((p.parts & kPartHertz) && !(p.E > 0.0)) throw common::InputError("contact.hertz.E must be > 0");
+  if ((p.parts & kPartHertz) && !(p.vmax > 0.0))
+    throw common::InputError("contact.vmax must be > 0 with the 'hertz' law (its contact time, and so the dt rule, depends on the impact speed)");
   if (!TableInfo::valid(p.parts)) throw common::InputError("contact.parts: not a valid set of parts");
   if (!(skin >= 0.0)) throw common::InputError("contact.skin must be >= 0");
   for (auto& w : walls_) {

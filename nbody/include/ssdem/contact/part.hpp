@@ -86,6 +86,18 @@ struct PairCtx {
   Vec3 F, Tp, Tn;    ///< results: force on p, torques on p and n
 };
 
+/// Relative spin of n with respect to p, predicted (dw) and half-step (dwh); a wall does not spin.
+template <bool WALL>
+inline void relative_spins(const PairCtx& k, Vec3& dw, Vec3& dwh) {
+  if constexpr (WALL) {
+    dw = -*k.wp;
+    dwh = -*k.wp_half;
+  } else {
+    dw = *k.wn - *k.wp;
+    dwh = *k.wn_half - *k.wp_half;
+  }
+}
+
 /// What the energy of one contact needs (no velocities).
 struct EnergyCtx {
   double x;     ///< overlap [m]

@@ -48,13 +48,7 @@ struct Rolling : PartBase {
     const Vec3& n = k.n;
     const double a = c.beta * k.Rbar;
     Vec3 dw, dwh;
-    if constexpr (WALL) {
-      dw = -*k.wp;
-      dwh = -*k.wp_half;
-    } else {
-      dw = *k.wn - *k.wp;
-      dwh = *k.wn_half - *k.wp_half;
-    }
+    relative_spins<WALL>(k, dw, dwh);
     const double dwn = dw.dot(n), dwhn = dwh.dot(n);
     double corr;
     if constexpr (WALL)

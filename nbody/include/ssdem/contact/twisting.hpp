@@ -46,13 +46,7 @@ struct Twisting : PartBase {
     const Vec3& n = k.n;
     const double a = c.beta * k.Rbar;
     Vec3 dw, dwh;
-    if constexpr (WALL) {
-      dw = -*k.wp;
-      dwh = -*k.wp_half;
-    } else {
-      dw = *k.wn - *k.wp;
-      dwh = *k.wn_half - *k.wp_half;
-    }
+    relative_spins<WALL>(k, dw, dwh);
     const double dwn = dw.dot(n), dwhn = dwh.dot(n);
     double& q = h.scal(0);
     q += dwhn * k.h;
