@@ -4,6 +4,7 @@
 
 #include <sstream>
 #include <stdexcept>
+#include <type_traits>
 
 #include "common/status.hpp"
 
@@ -44,7 +45,7 @@ ContactParams ContactPartRegistry::resolve(const common::Scene& scene) const {
   std::string list = scene.string("contact.parts");
   std::stringstream ss(list);
   std::string item;
-  bool normal = false;
+  int normal = 0;
   while (std::getline(ss, item, ',')) {
     const auto b = item.find_first_not_of(" \t"), e = item.find_last_not_of(" \t");
     if (b == std::string::npos) continue;
@@ -56,88 +57,48 @@ ContactParams ContactPartRegistry::resolve(const common::Scene& scene) const {
       throw common::InputError(scene.where("contact.parts") + ": unknown contact part '" + item +
                                "' (available: " + all + ")");
     }
-    if (info->flag == 0) normal = true;
+    if (info->slot == PartSlot::normal) ++normal;
     p.parts |= info->flag;
     info->read(scene, "contact." + item + ".", p);
   }
-  if (!normal)
-    throw common::InputError(scene.where("contact.parts") + ": the 'normal' part is mandatory");
-  if ((p.parts & kPartTwisting) && !(p.parts & kPartTangential))
+  if (normal != 1)
     throw common::InputError(scene.where("contact.parts") +
-                             ": 'twisting' needs 'tangential' (its limit is mu_t mu_s a |F_N|)");
+                             ": exactly one normal law ('normal' or 'hertz') must be listed");
+  for (const auto& [name, info] : parts_) {
+    if (!info.flag || !(p.parts & info.flag) || (p.parts & info.requires_parts) == info.requires_parts) continue;
+    std::string need;
+    for (const auto& [n2, i2] : parts_)
+      if (i2.flag & info.requires_parts) need += (need.empty() ? "'" : ", '") + n2 + "'";
+    throw common::InputError(scene.where("contact.parts") + ": '" + name + "' needs " + need + "'");
+  }
+  if ((p.parts & kPartHertz) && !(p.E > 0.0))
+    throw common::InputError(scene.where("contact.hertz.E") + ": the 'hertz' law needs Young's modulus E > 0");
   p.beta = scene.real("contact.beta");
   return p;
 }
 
 void register_builtin_contact_parts(ContactPartRegistry& reg) {
-  {
+  TableInfo::for_each([&](auto* tag) {
+    using P = std::remove_pointer_t<decltype(tag)>;
     ContactPartInfo i;
-    i.name = "normal";
-    i.flag = 0;
-    i.help = "linear normal spring F = -k_n x n (Schwartz+2012 eq. 3)";
-    i.schema.add_real("kn", 0.0, "N/m", 0.0, 1e30,
-                      "normal spring constant k_n; 0 = from the k_n rule (contact.vmax, "
-                      "contact.overlap_fraction; dt_rule.hpp)");
-    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
-      p.kn = s.real(pre + "kn");
-    };
+    i.name = P::name;
+    i.flag = P::flag;
+    i.requires_parts = P::requires_parts;
+    i.slot = P::slot;
+    i.help = P::help;
+    P::declare(i.schema);
+    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) { P::read(s, pre, p); };
     reg.add(std::move(i));
+  });
+}
+
+double ContactParams::contact_time(double mu, double Rbar) const {
+  if (parts & kPartHertz) {
+    const double Estar = E / (2.0 * (1.0 - nu * nu));
+    return hertz_contact_time(mu, (4.0 / 3.0) * Estar * std::sqrt(Rbar), vmax);
   }
-  {
-    ContactPartInfo i;
-    i.name = "damping";
-    i.flag = kPartDamping;
-    i.help = "normal dashpot from the restitution coefficient e_n (Schwartz+2012 eq. 15)";
-    i.schema.add_real("en", 0.55, "1", 0.0, 1.0, "normal coefficient of restitution e_n", true);
-    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
-      p.en = s.real(pre + "en");
-    };
-    reg.add(std::move(i));
-  }
-  {
-    ContactPartInfo i;
-    i.name = "tangential";
-    i.flag = kPartTangential;
-    i.help = "tangential spring with history and Coulomb cap mu_s (Schwartz+2012 eqs 6-7, 17-19)";
-    i.schema.add_real("kt_over_kn", 2.0 / 7.0, "1", 0.0, 10.0, "k_t / k_n", true);
-    i.schema.add_real("et", 0.55, "1", 0.0, 1.0,
-                      "tangential damping setting e_t (C_t from e_t with k_t; used only with the "
-                      "damping part)",
-                      true);
-    i.schema.add_real("mu_s", 1.0, "1", 0.0, 100.0, "static friction coefficient mu_s");
-    i.schema.add_choice("slip", SlipRule::coulomb, kSlipRules,
-                        "slip rule: coulomb (rescale to mu_s|F_N|) or pkdgrav (zero S, "
-                        "min(mu_s|F_N|, C_t|u_t|))");
-    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
-      p.kt_over_kn = s.real(pre + "kt_over_kn");
-      p.et = s.real(pre + "et");
-      p.mu_s = s.real(pre + "mu_s");
-      p.slip = s.choice(pre + "slip", kSlipRules);
-    };
-    reg.add(std::move(i));
-  }
-  {
-    ContactPartInfo i;
-    i.name = "rolling";
-    i.flag = kPartRolling;
-    i.help = "rolling spring-dashpot-slider, k_r = k_n a^2, limit mu_r a |F_N| (Zhang+2017)";
-    i.schema.add_real("mu_r", 1.05, "1", 0.0, 100.0, "rolling friction coefficient mu_r");
-    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
-      p.mu_r = s.real(pre + "mu_r");
-    };
-    reg.add(std::move(i));
-  }
-  {
-    ContactPartInfo i;
-    i.name = "twisting";
-    i.flag = kPartTwisting;
-    i.help = "twisting spring-dashpot-slider, k_q = 2 k_t a^2, limit mu_t mu_s a |F_N| (Zhang+2017)";
-    i.schema.add_real("mu_t", 1.3, "1", 0.0, 100.0, "twisting friction coefficient mu_t");
-    i.read = [](const common::Scene& s, const std::string& pre, ContactParams& p) {
-      p.mu_t = s.real(pre + "mu_t");
-    };
-    reg.add(std::move(i));
-  }
+  const double xi = (parts & kPartDamping) ? damping_ratio(en) : 0.0;
+  return M_PI * std::sqrt(mu / (kn * (1.0 - xi * xi)));
 }
 
 ContactParams gravel_preset(double kn) {

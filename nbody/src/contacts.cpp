@@ -31,12 +31,12 @@ struct Worst {
 }  // namespace
 
 ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, double skin)
-    : params_(p), coeffs_(p), walls_(std::move(walls)), skin_(skin) {
-  tang_ = p.parts & kPartTangential;
-  roll_ = p.parts & kPartRolling;
-  twist_ = p.parts & kPartTwisting;
-  hist_ = tang_ || roll_ || twist_;
-  if (!(p.kn > 0.0)) throw common::InputError("contact.normal.kn must be > 0");
+    : params_(p), coeffs_(p), walls_(std::move(walls)), skin_(skin), ph_(p.parts), wh_(p.parts) {
+  if (!(p.parts & kPartHertz) && !(p.kn > 0.0)) throw common::InputError("contact.normal.kn must be > 0");
+  if ((p.parts & kPartHertz) && !(p.E > 0.0)) throw common::InputError("contact.hertz.E must be > 0");
+  if ((p.parts & kPartHertz) && !(p.vmax > 0.0))
+    throw common::InputError("contact.vmax must be > 0 with the 'hertz' law (its contact time, and so the dt rule, depends on the impact speed)");
+  if (!TableInfo::valid(p.parts)) throw common::InputError("contact.parts: not a valid set of parts");
   if (!(skin >= 0.0)) throw common::InputError("contact.skin must be >= 0");
   for (auto& w : walls_) {
     const double nn = w.normal.norm();
@@ -50,16 +50,10 @@ ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, d
 ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                                     const std::vector<Vec3>& wpred, double h,
                                     std::vector<Vec3>& F, std::vector<Vec3>& T) {
-  switch (params_.parts & 15u) {
-#define SSDEM_CASE(k) \
-  case k:             \
-    return compute_impl<k>(sp, vpred, wpred, h, F, T);
-    SSDEM_CASE(0) SSDEM_CASE(1) SSDEM_CASE(2) SSDEM_CASE(3) SSDEM_CASE(4) SSDEM_CASE(5)
-    SSDEM_CASE(6) SSDEM_CASE(7) SSDEM_CASE(8) SSDEM_CASE(9) SSDEM_CASE(10) SSDEM_CASE(11)
-    SSDEM_CASE(12) SSDEM_CASE(13) SSDEM_CASE(14) SSDEM_CASE(15)
-#undef SSDEM_CASE
-  }
-  return {};
+  // one kernel per valid set of parts, generated from the table (contact/table.hpp)
+  return dispatch_parts(params_.parts, [&](auto parts) {
+    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, h, F, T);
+  });
 }
 
 template <unsigned PARTS>
@@ -84,18 +78,13 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < P; ++p) {
       const std::size_t i = pi_[p], j = pj_[p];
-      bool act = active_[p];
-      PairHistoryRef hr;
-      if (tang_) hr.S = &S_[p];
-      if (hist_) hr.n_old = &nold_[p];
-      if (roll_) hr.theta_r = &thr_[p];
-      if (twist_) hr.theta_q = &thq_[p];
+      bool act = ph_.active[p];
       PairResult res;
       const double mu = sp.m[i] * sp.m[j] / (sp.m[i] + sp.m[j]);
       const bool c = contact_pair<PARTS, false>(coeffs_, sp.x[j] - sp.x[i], sp.s[i], sp.s[j], mu,
                                                 vpred[i], vpred[j], wpred[i], wpred[j], sp.v[i],
-                                                sp.v[j], sp.w[i], sp.w[j], h, act, hr, res);
-      active_[p] = act ? 1 : 0;
+                                                sp.v[j], sp.w[i], sp.w[j], h, act, ph_.row(p), res);
+      ph_.active[p] = act ? 1 : 0;
       if (c) {
         pF_[p] = res.F;
         pTp_[p] = res.Tp;
@@ -123,13 +112,13 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
       for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
         const std::uint32_t p = jpair_[q];
-        if (active_[p]) {
+        if (ph_.active[p]) {
           f -= pF_[p];
           t += pTn_[p];
         }
       }
       for (std::uint32_t p = irow_[k]; p < irow_[k + 1]; ++p) {
-        if (active_[p]) {
+        if (ph_.active[p]) {
           f += pF_[p];
           t += pTp_[p];
         }
@@ -139,22 +128,17 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         double dist = (sp.x[k] - pl.point).dot(pl.normal);
         const std::size_t s = k * nw + w;
         if (dist >= sp.s[k]) {
-          wactive_[s] = 0;
+          wh_.active[s] = 0;
           continue;
         }
         dist = std::max(dist, 1e-9 * sp.s[k]);
-        bool act = wactive_[s];
-        PairHistoryRef hr;
-        if (tang_) hr.S = &wS_[s];
-        if (hist_) hr.n_old = &wnold_[s];
-        if (roll_) hr.theta_r = &wthr_[s];
-        if (twist_) hr.theta_q = &wthq_[s];
+        bool act = wh_.active[s];
         PairResult res;
         static const Vec3 zero = Vec3::Zero();
         contact_pair<PARTS, true>(coeffs_, -dist * pl.normal, sp.s[k], 0.0, sp.m[k], vpred[k],
-                                  zero, wpred[k], zero, sp.v[k], zero, sp.w[k], zero, h, act, hr,
-                                  res);
-        wactive_[s] = act ? 1 : 0;
+                                  zero, wpred[k], zero, sp.v[k], zero, sp.w[k], zero, h, act,
+                                  wh_.row(s), res);
+        wh_.active[s] = act ? 1 : 0;
         f += res.F;
         t += res.Tp;
         ++lc;
@@ -181,55 +165,49 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
 }
 
 double ContactSystem::elastic_energy(const Spheres& sp) const {
-  double e = 0.0;
-  for (std::size_t p = 0; p < pi_.size(); ++p) {
-    if (!active_[p]) continue;
-    const std::size_t i = pi_[p], j = pj_[p];
-    const double d = (sp.x[j] - sp.x[i]).norm();
-    const double x = sp.s[i] + sp.s[j] - d;
-    if (x <= 0.0) continue;
-    e += contact_elastic_energy(coeffs_, params_.parts, x, sp.s[i] * sp.s[j] / (sp.s[i] + sp.s[j]),
-                                tang_ ? &S_[p] : nullptr, roll_ ? &thr_[p] : nullptr,
-                                twist_ ? &thq_[p] : nullptr);
-  }
-  const std::size_t nw = walls_.size();
-  for (std::size_t k = 0; k < sp.size() && nw; ++k)
-    for (std::size_t w = 0; w < nw; ++w) {
-      const std::size_t s = k * nw + w;
-      if (!wactive_[s]) continue;
-      const double x = sp.s[k] - (sp.x[k] - walls_[w].point).dot(walls_[w].normal);
+  return dispatch_parts(params_.parts, [&](auto parts) {
+    constexpr unsigned PARTS = decltype(parts)::value;
+    double e = 0.0;
+    for (std::size_t p = 0; p < pi_.size(); ++p) {
+      if (!ph_.active[p]) continue;
+      const std::size_t i = pi_[p], j = pj_[p];
+      const double d = (sp.x[j] - sp.x[i]).norm();
+      const double x = sp.s[i] + sp.s[j] - d;
       if (x <= 0.0) continue;
-      e += contact_elastic_energy(coeffs_, params_.parts, x, sp.s[k], tang_ ? &wS_[s] : nullptr,
-                                  roll_ ? &wthr_[s] : nullptr, twist_ ? &wthq_[s] : nullptr);
+      e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[i] * sp.s[j] / (sp.s[i] + sp.s[j]), ph_.row(p));
     }
-  return e;
+    const std::size_t nw = walls_.size();
+    for (std::size_t k = 0; k < sp.size() && nw; ++k)
+      for (std::size_t w = 0; w < nw; ++w) {
+        const std::size_t s = k * nw + w;
+        if (!wh_.active[s]) continue;
+        const double x = sp.s[k] - (sp.x[k] - walls_[w].point).dot(walls_[w].normal);
+        if (x <= 0.0) continue;
+        e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[k], wh_.row(s), true);
+      }
+    return e;
+  });
 }
 
 std::vector<HistoryRecord> ContactSystem::export_history(const Spheres& sp) const {
   std::vector<HistoryRecord> out;
   for (std::size_t p = 0; p < pi_.size(); ++p) {
-    if (!active_[p]) continue;
+    if (!ph_.active[p]) continue;
     HistoryRecord r;
     r.id_a = sp.id[pi_[p]];
     r.id_b = sp.id[pj_[p]];
-    if (tang_) r.S = S_[p];
-    if (hist_) r.n_old = nold_[p];
-    if (roll_) r.theta_r = thr_[p];
-    if (twist_) r.theta_q = thq_[p];
+    ph_.get_into(p, r);
     out.push_back(r);
   }
   const std::size_t nw = walls_.size();
-  for (std::size_t k = 0; k < sp.size() && nw && wactive_.size() == sp.size() * nw; ++k)
+  for (std::size_t k = 0; k < sp.size() && nw && wh_.size() == sp.size() * nw; ++k)
     for (std::size_t w = 0; w < nw; ++w) {
       const std::size_t s = k * nw + w;
-      if (!wactive_[s]) continue;
+      if (!wh_.active[s]) continue;
       HistoryRecord r;
       r.id_a = sp.id[k];
       r.id_b = kWallIdBase + w;
-      if (tang_) r.S = wS_[s];
-      if (hist_) r.n_old = wnold_[s];
-      if (roll_) r.theta_r = wthr_[s];
-      if (twist_) r.theta_q = wthq_[s];
+      wh_.get_into(s, r);
       out.push_back(r);
     }
   return out;
@@ -238,21 +216,16 @@ std::vector<HistoryRecord> ContactSystem::export_history(const Spheres& sp) cons
 void ContactSystem::import_history(const Spheres& sp, const std::vector<HistoryRecord>& recs) {
   pending_ = recs;
   import_ = true;
-  wactive_.clear();
+  wh_.assign(0);
   build_pairs(sp);
 }
 
 double ContactSystem::bytes_per_sphere(std::size_t n) const {
   if (n == 0) return 0.0;
   const double P = static_cast<double>(pi_.size());
-  double per_pair = 4 + 4 + 1 + 3 * 24 + 4;  // pi, pj, active, results, jpair
-  if (tang_) per_pair += 24;
-  if (hist_) per_pair += 24;
-  if (roll_) per_pair += 24;
-  if (twist_) per_pair += 8;
+  const double per_pair = 4 + 4 + 3 * 24 + 4 + ph_.bytes_per_row();  // pi, pj, results, jpair, history
   double b = P * per_pair + 8.0 * (n + 1) + 24.0 * n;  // irow/jrow, xref
-  b += static_cast<double>(wactive_.size()) * (1 + (tang_ ? 24 : 0) + (hist_ ? 24 : 0) +
-                                               (roll_ ? 24 : 0) + (twist_ ? 8 : 0));
+  b += static_cast<double>(wh_.size()) * wh_.bytes_per_row();
   return b / static_cast<double>(n);
 }
 

@@ -40,10 +40,12 @@ double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool wal
       m2 = m;
     }
   }
-  double mu = std::isfinite(m2) ? m1 * m2 / (m1 + m2) : INFINITY;
-  if (walls) mu = std::min(mu, m1);
-  if (!std::isfinite(mu)) return INFINITY;
-  return p.contact_time(mu);
+  double smax = 0.0;
+  for (double s : sp.s) smax = std::max(smax, s);
+  // Hertz: the time falls with the reduced radius; take the largest (conservative)
+  double tau = std::isfinite(m2) ? p.contact_time(m1 * m2 / (m1 + m2), 0.5 * smax) : INFINITY;
+  if (walls) tau = std::min(tau, p.contact_time(m1, smax));
+  return tau;
 }
 
 void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps) {
@@ -51,8 +53,12 @@ void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, 
   if (!std::isfinite(tau)) return;
   if (dt * min_steps > tau * (1.0 + 1e-9)) {  // a dt of exactly tau/min_steps is accepted
     std::ostringstream os;
-    os << "time.dt = " << dt << " s resolves the shortest contact (tau = " << tau
-       << " s for k_n = " << p.kn << " N/m) with only " << tau / dt
+    os << "time.dt = " << dt << " s resolves the shortest contact (tau = " << tau << " s for ";
+    if (p.parts & kPartHertz)
+      os << "contact.hertz.E = " << p.E << " Pa at contact.vmax = " << p.vmax << " m/s";
+    else
+      os << "k_n = " << p.kn << " N/m";
+    os << ") with only " << tau / dt
        << " steps; at least " << min_steps << " are required (time.min_steps_per_contact). "
        << "Use dt <= " << tau / min_steps << " s or a softer k_n.";
     throw common::InputError(os.str());

@@ -128,24 +128,46 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
     h5::Handle hg = h5::create_group(g, "history");
     const std::size_t P = st.history.size();
     std::vector<std::uint64_t> ia(P), ib(P);
-    std::vector<double> S(3 * P), no(3 * P), th(3 * P), q(P);
     for (std::size_t p = 0; p < P; ++p) {
-      const auto& r = st.history[p];
-      ia[p] = r.id_a;
-      ib[p] = r.id_b;
-      for (int k = 0; k < 3; ++k) {
-        S[3 * p + k] = r.S[k];
-        no[3 * p + k] = r.n_old[k];
-        th[3 * p + k] = r.theta_r[k];
-      }
-      q[p] = r.theta_q;
+      ia[p] = st.history[p].id_a;
+      ib[p] = st.history[p].id_b;
     }
     h5::write_dataset(hg, "id_a", ia.data(), P, 1, "1");
     h5::write_dataset(hg, "id_b", ib.data(), P, 1, "1");
-    h5::write_dataset(hg, "S", S.data(), P, 3, "m");
-    h5::write_dataset(hg, "n_old", no.data(), P, 3, "1");
-    h5::write_dataset(hg, "theta_r", th.data(), P, 3, "rad");
-    h5::write_dataset(hg, "theta_q", q.data(), P, 1, "rad");
+    // one dataset per history field of the contact table (contact/table.hpp)
+    std::vector<double> buf;
+    for (int k = 0; k < kHistVec; ++k) {
+      buf.assign(3 * P, 0.0);
+      for (std::size_t p = 0; p < P; ++p)
+        for (int c = 0; c < 3; ++c) buf[3 * p + c] = st.history[p].v[k][c];
+      h5::write_dataset(hg, kHistVecFields[k].name, buf.data(), P, 3, kHistVecFields[k].unit);
+    }
+    for (int k = 0; k < kHistScal; ++k) {
+      buf.assign(P, 0.0);
+      for (std::size_t p = 0; p < P; ++p) buf[p] = st.history[p].q[k];
+      h5::write_dataset(hg, kHistScalFields[k].name, buf.data(), P, 1, kHistScalFields[k].unit);
+    }
+    if (!st.bonds.empty()) {  // bonds with their state, by sphere ids (bonds.hpp)
+      const BondSet& b = st.bonds;
+      const std::size_t B = b.size();
+      h5::Handle bg = h5::create_group(g, "bonds");
+      h5::write_attr(bg, "released_energy", b.released);
+      h5::write_dataset(bg, "id_a", b.id_a.data(), B, 1, "1");
+      h5::write_dataset(bg, "id_b", b.id_b.data(), B, 1, "1");
+      h5::write_dataset(bg, "kn", b.kn.data(), B, 1, "N/m^3");
+      h5::write_dataset(bg, "ks", b.ks.data(), B, 1, "N/m^3");
+      h5::write_dataset(bg, "sigma_c", b.sigma_c.data(), B, 1, "Pa");
+      h5::write_dataset(bg, "tau_c", b.tau_c.data(), B, 1, "Pa");
+      h5::write_dataset(bg, "radius", b.radius.data(), B, 1, "m");
+      h5::write_dataset(bg, "length0", b.length0.data(), B, 1, "m");
+      std::vector<double> br(b.broken.begin(), b.broken.end());
+      h5::write_dataset(bg, "broken", br.data(), B, 1, "1");
+      auto fs = flat(b.Fs), mb = flat(b.Mb), no = flat(b.n_old);
+      h5::write_dataset(bg, "Fs", fs.data(), B, 3, "N");
+      h5::write_dataset(bg, "Mb", mb.data(), B, 3, "N m");
+      h5::write_dataset(bg, "n_old", no.data(), B, 3, "1");
+      h5::write_dataset(bg, "Mt", b.Mt.data(), B, 1, "N m");
+    }
   };
   const common::SphereSet set = to_sphere_set(st.sp, st.time, st.step);
   common::check_output_spheres(set, path);
@@ -179,19 +201,45 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
     const long long P = static_cast<long long>(ia.size());
     const auto ib = h5::read_u64(f, "/ssdem_state/history/id_b", P, 1, path);
-    const auto S = h5::read_doubles(f, "/ssdem_state/history/S", P, 3, path);
-    const auto no = h5::read_doubles(f, "/ssdem_state/history/n_old", P, 3, path);
-    const auto th = h5::read_doubles(f, "/ssdem_state/history/theta_r", P, 3, path);
-    const auto q = h5::read_doubles(f, "/ssdem_state/history/theta_q", P, 1, path);
     st.history.resize(ia.size());
     for (std::size_t p = 0; p < ia.size(); ++p) {
-      auto& r = st.history[p];
-      r.id_a = ia[p];
-      r.id_b = ib[p];
-      r.S = Vec3(S[3 * p], S[3 * p + 1], S[3 * p + 2]);
-      r.n_old = Vec3(no[3 * p], no[3 * p + 1], no[3 * p + 2]);
-      r.theta_r = Vec3(th[3 * p], th[3 * p + 1], th[3 * p + 2]);
-      r.theta_q = q[p];
+      st.history[p].id_a = ia[p];
+      st.history[p].id_b = ib[p];
+    }
+    // every field of the table that the file holds (a field it lacks stays zero)
+    for (int k = 0; k < kHistVec; ++k) {
+      const std::string name = std::string("/ssdem_state/history/") + kHistVecFields[k].name;
+      if (!h5::exists(f, name)) continue;
+      const auto v = h5::read_doubles(f, name, P, 3, path);
+      for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].v[k] = Vec3(v[3 * p], v[3 * p + 1], v[3 * p + 2]);
+    }
+    for (int k = 0; k < kHistScal; ++k) {
+      const std::string name = std::string("/ssdem_state/history/") + kHistScalFields[k].name;
+      if (!h5::exists(f, name)) continue;
+      const auto v = h5::read_doubles(f, name, P, 1, path);
+      for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].q[k] = v[p];
+    }
+    if (h5::exists(f, "/ssdem_state/bonds")) {
+      BondSet& b = st.bonds;
+      const std::string g = "/ssdem_state/bonds/";
+      b.id_a = h5::read_u64(f, g + "id_a", -1, 1, path);
+      const long long B = static_cast<long long>(b.id_a.size());
+      b.id_b = h5::read_u64(f, g + "id_b", B, 1, path);
+      b.kn = h5::read_doubles(f, g + "kn", B, 1, path);
+      b.ks = h5::read_doubles(f, g + "ks", B, 1, path);
+      b.sigma_c = h5::read_doubles(f, g + "sigma_c", B, 1, path);
+      b.tau_c = h5::read_doubles(f, g + "tau_c", B, 1, path);
+      b.radius = h5::read_doubles(f, g + "radius", B, 1, path);
+      b.length0 = h5::read_doubles(f, g + "length0", B, 1, path);
+      const auto br = h5::read_doubles(f, g + "broken", B, 1, path);
+      b.broken.assign(br.size(), 0);
+      for (std::size_t k = 0; k < br.size(); ++k) b.broken[k] = br[k] != 0.0 ? 1 : 0;
+      b.Fs = unflat(h5::read_doubles(f, g + "Fs", B, 3, path));
+      b.Mb = unflat(h5::read_doubles(f, g + "Mb", B, 3, path));
+      b.n_old = unflat(h5::read_doubles(f, g + "n_old", B, 3, path));
+      b.Mt = h5::read_doubles(f, g + "Mt", B, 1, path);
+      h5::Handle bg = h5::open_group(f, "ssdem_state/bonds", path);
+      b.released = h5::read_attr_double(bg, "released_energy", path);
     }
   };
   const common::SphereSet s = common::read_sphere_set(path, hook);

@@ -271,70 +271,49 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   }
   // Carry history from the old list (both sorted by (i, j)).
   const std::size_t P = npi.size();
-  std::vector<std::uint8_t> nact(P, 0);
-  std::vector<Vec3> nS, nno, nthr;
-  std::vector<double> nthq;
-  if (tang_) nS.assign(P, Vec3::Zero());
-  if (hist_) nno.assign(P, Vec3::Zero());
-  if (roll_) nthr.assign(P, Vec3::Zero());
-  if (twist_) nthq.assign(P, 0.0);
-  auto copy_from = [&](std::size_t to, const HistoryRecord& r) {
-    nact[to] = 1;
-    if (tang_) nS[to] = r.S;
-    if (hist_) nno[to] = r.n_old;
-    if (roll_) nthr[to] = r.theta_r;
-    if (twist_) nthq[to] = r.theta_q;
-  };
+  ContactHistory nh(params_.parts);
+  nh.assign(P);
   if (import_) {
     import_ = false;
     // Imported history: map ids to indices, orient each record as (lower index, higher).
     std::unordered_map<std::uint64_t, std::uint32_t> idx;
     idx.reserve(n * 2);
     for (std::size_t i = 0; i < n; ++i) idx.emplace(sp.id[i], static_cast<std::uint32_t>(i));
-    std::vector<std::pair<std::uint64_t, HistoryRecord>> recs;
+    struct Keyed {
+      std::uint64_t key;
+      const HistoryRecord* r;
+      bool flip;
+    };
+    std::vector<Keyed> recs;
     for (const auto& r0 : pending_) {
       if (r0.id_b >= kWallIdBase) continue;
       auto ia = idx.find(r0.id_a), ib = idx.find(r0.id_b);
       if (ia == idx.end() || ib == idx.end())
         throw common::InputError("checkpoint contact history names an unknown sphere id");
-      HistoryRecord r = r0;
       std::uint32_t a = ia->second, b = ib->second;
-      if (a > b) {  // swapping p and n flips S, n_old and theta_r; theta_q is symmetric
-        std::swap(a, b);
-        r.S = -r.S;
-        r.n_old = -r.n_old;
-        r.theta_r = -r.theta_r;
-      }
-      recs.emplace_back((static_cast<std::uint64_t>(a) << 32) | b, r);
+      const bool flip = a > b;  // swapping p and n flips the fields declared to flip
+      if (flip) std::swap(a, b);
+      recs.push_back({(static_cast<std::uint64_t>(a) << 32) | b, &r0, flip});
     }
-    std::sort(recs.begin(), recs.end(),
-              [](const auto& x, const auto& y) { return x.first < y.first; });
+    std::sort(recs.begin(), recs.end(), [](const Keyed& x, const Keyed& y) { return x.key < y.key; });
     std::size_t q = 0;
     for (std::size_t p = 0; p < P && q < recs.size(); ++p) {
       const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
-      while (q < recs.size() && recs[q].first < k) ++q;  // not a neighbour: cannot be in contact
-      if (q < recs.size() && recs[q].first == k) copy_from(p, recs[q].second);
+      while (q < recs.size() && recs[q].key < k) ++q;  // not a neighbour: cannot be in contact
+      if (q < recs.size() && recs[q].key == k) nh.set_from(p, *recs[q].r, recs[q].flip);
     }
     // wall history
     const std::size_t nw = walls_.size();
     if (nw) {
-      wactive_.assign(n * nw, 0);
-      if (tang_) wS_.assign(n * nw, Vec3::Zero());
-      if (hist_) wnold_.assign(n * nw, Vec3::Zero());
-      if (roll_) wthr_.assign(n * nw, Vec3::Zero());
-      if (twist_) wthq_.assign(n * nw, 0.0);
+      wh_.configure(params_.parts);
+      wh_.assign(n * nw);
       for (const auto& r : pending_) {
         if (r.id_b < kWallIdBase) continue;
         const std::size_t w = r.id_b - kWallIdBase;
         auto ia = idx.find(r.id_a);
         if (ia == idx.end() || w >= nw)
           throw common::InputError("checkpoint wall history names an unknown sphere or wall");
-        const std::size_t s = ia->second * nw + w;
-        wactive_[s] = 1;
-        if (tang_) wS_[s] = r.S;
-        if (hist_) wnold_[s] = r.n_old;
-        if (roll_) wthr_[s] = r.theta_r;
-        if (twist_) wthq_[s] = r.theta_q;
+        wh_.set_from(ia->second * nw + w, r, false);
       }
     }
     pending_.clear();
@@ -345,22 +324,12 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
       const std::uint64_t k = (static_cast<std::uint64_t>(npi[p]) << 32) | npj[p];
       auto okey = [&](std::size_t t) { return (static_cast<std::uint64_t>(pi_[t]) << 32) | pj_[t]; };
       while (q < Q && okey(q) < k) ++q;
-      if (q < Q && okey(q) == k && active_[q]) {
-        nact[p] = 1;
-        if (tang_) nS[p] = S_[q];
-        if (hist_) nno[p] = nold_[q];
-        if (roll_) nthr[p] = thr_[q];
-        if (twist_) nthq[p] = thq_[q];
-      }
+      if (q < Q && okey(q) == k && ph_.active[q]) nh.copy_row(p, ph_, q);
     }
   }
   pi_.swap(npi);
   pj_.swap(npj);
-  active_.swap(nact);
-  S_.swap(nS);
-  nold_.swap(nno);
-  thr_.swap(nthr);
-  thq_.swap(nthq);
+  ph_.swap(nh);
   pF_.resize(P);
   pTp_.resize(P);
   pTn_.resize(P);
@@ -374,12 +343,9 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
     for (std::size_t p = 0; p < P; ++p) jpair_[fill[pj_[p]]++] = static_cast<std::uint32_t>(p);
   }
   const std::size_t nw = walls_.size();
-  if (nw && wactive_.size() != n * nw) {
-    wactive_.assign(n * nw, 0);
-    if (tang_) wS_.assign(n * nw, Vec3::Zero());
-    if (hist_) wnold_.assign(n * nw, Vec3::Zero());
-    if (roll_) wthr_.assign(n * nw, Vec3::Zero());
-    if (twist_) wthq_.assign(n * nw, 0.0);
+  if (nw && wh_.size() != n * nw) {
+    wh_.configure(params_.parts);
+    wh_.assign(n * nw);
   }
 }
 }  // namespace ssdem

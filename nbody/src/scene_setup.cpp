@@ -112,6 +112,14 @@ common::Schema ssdem_schema() {
   s.add_real("contact.skin", 0.0, "m", 0.0, inf, "neighbour-list skin (spheres moving more than skin/2 are re-inserted); 0 = 0.25 x max radius");
   s.add_real("contact.max_overlap_fraction", 1.0, "1", 0.0, 10.0,
              "overlap / smaller radius that stops the run with exit code 3", true);
+  // parallel bonds of a bonded body (bonds.hpp)
+  s.add_bool("bonds.generate", false, "bond every pair of spheres closer than s_a + s_b + bonds.gap min(s) (a bonded body)");
+  s.add_real("bonds.kn", 0.0, "N/m^3", 0.0, 1e30, "bond normal stiffness per unit area (E = kn L0 of the equivalent beam)");
+  s.add_real("bonds.ks", 0.0, "N/m^3", 0.0, 1e30, "bond shear stiffness per unit area");
+  s.add_real("bonds.sigma_c", 1e300, "Pa", 0.0, 1e300, "bond tensile strength");
+  s.add_real("bonds.tau_c", 1e300, "Pa", 0.0, 1e300, "bond shear strength");
+  s.add_real("bonds.radius_ratio", 1.0, "1", 0.0, 10.0, "bond radius / smaller sphere radius");
+  s.add_real("bonds.gap", 0.01, "1", 0.0, 1.0, "largest gap bonded by the generator, / smaller radius");
   {
     auto& w = s.add_table_array("wall", "infinite plane walls");
     w.add_vec3("point", Eigen::Vector3d::Zero(), "m", -inf, inf, "a point on the plane");
@@ -228,8 +236,8 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       if (!sc.given("contact.twisting.mu_t")) p.mu_t = g.mu_t;
       if (!sc.given("contact.beta")) p.beta = g.beta;
     }
-    if (p.kn <= 0.0) {
-      double vmax = sc.real("contact.vmax");
+    double vmax = sc.real("contact.vmax");
+    if (p.kn <= 0.0 || p.has(kPartHertz)) {  // Hertz: vmax sets the contact time (dt rule)
       if (vmax <= 0.0) {
         double R = 0;
         for (std::size_t i = 0; i < sp.size(); ++i) R = std::max(R, (sp.x[i] - com).norm() + sp.s[i]);
@@ -240,11 +248,27 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
         os << "k_n rule: vmax = " << vmax << " m/s (1.2 v_esc or 2 max|v|)\n";
       }
       if (!(vmax > 0)) throw common::InputError(sc.where("contact.vmax") + ": cannot derive k_n (no speed scale); give contact.normal.kn or contact.vmax");
+      if (p.has(kPartHertz)) {
+        p.vmax = vmax;
+        os << "Hertz contact time at vmax = " << vmax << " m/s\n";
+      }
+    }
+    if (p.kn <= 0.0 && !p.has(kPartHertz)) {
       const DtAdvice a = choose_kn_dt(mmax, smin, vmax, (p.parts & kPartDamping) ? p.en : 1.0,
                                       sc.real("contact.overlap_fraction"),
                                       sc.real("time.steps_per_contact"));
       p.kn = a.kn;
       os << "k_n = " << p.kn << " N/m (kinetic rule, m = " << mmax << " kg, s = " << smin << " m)\n";
+      if (p.has(kPartCohesion)) {  // cohesion criterion: F_c,max / x_max (contact/cohesion.hpp)
+        double smax = 0;
+        for (double s : sp.s) smax = std::max(smax, s);
+        const double kc = p.sigma_c * M_PI * p.beta * p.beta * smax * smax /
+                          (sc.real("contact.overlap_fraction") * smin);
+        if (kc > p.kn) {
+          p.kn = kc;
+          os << "k_n = " << p.kn << " N/m (cohesion rule F_c,max / x_max)\n";
+        }
+      }
     }
     c.contact = p;
     for (std::size_t w = 0; w < sc.count("wall"); ++w) {
@@ -253,6 +277,17 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
     }
     c.skin = sc.real("contact.skin");
     c.max_overlap_frac = sc.real("contact.max_overlap_fraction");
+    if (sc.boolean("bonds.generate")) {
+      BondParams bp;
+      bp.kn = sc.real("bonds.kn");
+      bp.ks = sc.real("bonds.ks");
+      bp.sigma_c = sc.real("bonds.sigma_c");
+      bp.tau_c = sc.real("bonds.tau_c");
+      bp.radius_ratio = sc.real("bonds.radius_ratio");
+      bp.gap = sc.real("bonds.gap");
+      c.bonds = generate_bonds(sp, bp);
+      os << c.bonds.size() << " bonds generated\n";
+    }
     const double tau_min = shortest_contact_time(p, sp, !c.walls.empty());
     if (c.dt <= 0.0) {
       c.dt = tau_min / sc.real("time.steps_per_contact");

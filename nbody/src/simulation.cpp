@@ -24,6 +24,8 @@ double cpu_now() {
 
 Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(sp)) {
   setup();
+  setup_bonds(std::move(cfg_.bonds));
+  cfg_.bonds = BondSet{};
   const std::size_t n = sp_.size();
   a_.assign(n, Vec3::Zero());
   alpha_.assign(n, Vec3::Zero());
@@ -34,6 +36,8 @@ Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(st
 
 Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(st.sp)) {
   setup();
+  setup_bonds(std::move(st.bonds));
+  cfg_.bonds = BondSet{};
   const std::size_t n = sp_.size();
   if (st.a.size() != n || st.alpha.size() != n || (cfg_.self_gravity && st.ag.size() != n))
     throw common::InputError("restart state: acceleration arrays do not match the sphere count");
@@ -68,6 +72,14 @@ void Simulation::setup() {
     contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin);
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);
+}
+
+void Simulation::setup_bonds(BondSet b) {
+  if (b.empty()) return;  // no bonds: no arrays, no cost
+  if (!contacts_)
+    throw common::InputError("bonds need the soft-sphere contacts (contact.enabled = true)");
+  check_bond_dt(b, sp_, cfg_.dt, cfg_.min_steps_per_contact);
+  bonds_ = std::make_unique<BondSystem>(std::move(b), sp_);
 }
 
 void Simulation::compute_gravity(bool with_pot) {
@@ -116,6 +128,8 @@ void Simulation::compute_forces(bool initial) {
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime(), c1 = cpu_now();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
+    // bonds: increments with the half-step velocities (none at the initial evaluation)
+    if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
     const double t2 = omp_get_wtime(), c2 = cpu_now();
     times_.neighbours += t1 - t0;
     times_.contacts += t2 - t1;
@@ -226,6 +240,13 @@ Diagnostics Simulation::diagnostics() {
   }
   if (contacts_) {
     d.elastic = contacts_->elastic_energy(sp_);
+    if (bonds_) {
+      d.bond_elastic = bonds_->elastic_energy(sp_);
+      d.elastic += d.bond_elastic;
+      d.bond_released = bonds_->released_energy();
+      d.bonds = bonds_->bonds().size();
+      d.bonds_broken = bonds_->broken_count();
+    }
     d.contacts = cstats_.contacts;
     d.wall_contacts = cstats_.wall_contacts;
     d.max_overlap_frac = cstats_.max_overlap_frac;
@@ -245,6 +266,7 @@ SimState Simulation::state() const {
   s.a_prev = a_prev_;
   s.alpha_prev = alpha_prev_;
   if (contacts_) s.history = contacts_->export_history(sp_);
+  if (bonds_) s.bonds = bonds_->bonds();
   return s;
 }
 
@@ -255,6 +277,7 @@ double Simulation::bytes_per_sphere() const {
   if (contacts_) b += 4 * 24 + contacts_->bytes_per_sphere(n);  // vpred, wpred, F, T
   if (contacts_ && cfg_.extrapolated_predictor) b += 2 * 24;     // a_prev, alpha_prev
   if (tree_) b += tree_->bytes_per_sphere(n);
+  if (bonds_) b += bonds_->bytes_per_sphere(n);
   return b;
 }
 

@@ -269,22 +269,28 @@ TEST(ContactObjectivity, HistoryFollowsARigidRotation) {
   const double h = 1e-3;
   const Vec3 n0 = axis.cross(Vec3::UnitX()).normalized();
   const Vec3 S0 = 1e-6 * n0.cross(axis).normalized() + 0.5e-6 * axis.cross(n0.cross(axis)).normalized().cross(n0);
-  Vec3 S = S0 - S0.dot(n0) * n0, nold = n0, thr = 1e-3 * n0.cross(axis).normalized();
+  // one-row history container of these parts (contact/history.hpp)
+  ContactHistory hist(p.parts);
+  hist.assign(1);
+  Vec3& S = hist.vec_col(1)[0];
+  Vec3& nold = hist.vec_col(0)[0];
+  Vec3& thr = hist.vec_col(2)[0];
+  S = S0 - S0.dot(n0) * n0;
+  nold = n0;
+  thr = 1e-3 * n0.cross(axis).normalized();
+  ASSERT_STREQ(kHistVecFields[1].name, "S");
+  ASSERT_STREQ(kHistVecFields[2].name, "theta_r");
   const Vec3 S_init = S, thr_init = thr;
   bool active = true;
   const int steps = 800;  // 1.6 rad
   for (int k = 1; k <= steps; ++k) {
     const Eigen::AngleAxisd R(Om.norm() * h * k, axis);
     const Vec3 xp = R * (-0.5 * d * n0), xn = R * (0.5 * d * n0);
-    PairHistoryRef hr;
-    hr.S = &S;
-    hr.n_old = &nold;
-    hr.theta_r = &thr;
     PairResult res;
     contact_pair<kPartTangential | kPartRolling, false>(c, xn - xp, s, s, 1.0, Om.cross(xp),
                                                         Om.cross(xn), Om, Om, Om.cross(xp),
                                                         Om.cross(xn), Om, Om, h, active,
-                                                        hr, res);
+                                                        hist.row(0), res);
   }
   const Eigen::AngleAxisd R(Om.norm() * h * steps, axis);
   const double errS = (S - R * S_init).norm() / S_init.norm();
@@ -382,7 +388,7 @@ TEST(ContactPartRegistry, DuplicateNameThrows) {
     EXPECT_STREQ(e.what(), "contact part 'rolling' registered twice");
   }
   ContactPartInfo fresh;
-  fresh.name = "cohesion";
+  fresh.name = "jkr";  // a name not in the table
   EXPECT_NO_THROW(reg.add(fresh));
-  EXPECT_NE(reg.find("cohesion"), nullptr);
+  EXPECT_NE(reg.find("jkr"), nullptr);
 }

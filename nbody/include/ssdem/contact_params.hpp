@@ -1,23 +1,17 @@
 /// @file contact_params.hpp
-/// Soft-sphere contact parameters and the registry of contact *parts* (styles chosen by name).
+/// Resolved soft-sphere contact parameters (composed from the parts of contact/table.hpp) and the
+/// registry of contact parts chosen by name in `contact.parts`.
 ///
-/// Parts (Schwartz, Richardson & Michel 2012, Granular Matter 14:363 = "S12"; Zhang et al. 2017,
-/// Icarus 294:98 = "Z17", after Jiang, Shen & Wang 2015):
-///   normal      F_N = -k_n x n                                     (S12 eq. 3)
-///   damping     + C_n u_n,  C_n = 2|ln e_n| sqrt(k_n mu / (pi^2 + ln^2 e_n))   (S12 eqs 13, 15-16)
-///   tangential  F_T = k_t S + C_t u_t, |F_T| <= mu_s |F_N|, k_t = (2/7) k_n by default,
-///               C_t from e_t with k_t in place of k_n                (S12 eqs 6-7, 14, 17-19)
-///   rolling     M_r = k_r theta_r + C_r v_roll, k_r = k_n a^2, C_r = C_n a^2,
-///               |M_r| <= mu_r a |F_N|, a = beta * Rbar               (Z17 §2, spring-dashpot-slider)
-///   twisting    M_q = k_q theta_q + C_q v_twist, k_q = 2 k_t a^2, C_q = 2 C_t a^2,
-///               |M_q| <= mu_t mu_s a |F_N|                            (Z17 §2; pkdgrav DoDEM)
-/// The "normal" part is mandatory. Every part declares its parameters as a common::Schema
-/// under `contact.<part>.`; a part that is not listed in `contact.parts` costs nothing: the
-/// pair kernel is a template specialised on the set of enabled parts (contact_law.hpp).
-/// Adding a new part (Hertz normal law, cohesion) means registering it here and adding its
-/// term to the kernel.
+/// The parts and their equations are in nbody/include/ssdem/contact/<part>.hpp:
+///   normal (linear spring, S12 eq. 3) | hertz (Hertz-Mindlin, Johnson 1985; Tsuji et al. 1992)
+///   damping (S12 eqs 13, 15-16), tangential (S12 eqs 6-7, 14, 17-19),
+///   rolling and twisting (Zhang et al. 2017, spring-dashpot-slider), cohesion (sigma_c over
+///   the contact area pi (beta Rbar)^2, spheres and walls)
+/// (S12 = Schwartz, Richardson & Michel 2012, Granular Matter 14:363). Every part declares its
+/// parameters as a common::Schema under `contact.<part>.`; a part that is not listed in
+/// `contact.parts` costs nothing (one pair kernel is compiled per valid set of parts).
+/// Exactly one normal law ("normal" or "hertz") must be listed.
 #pragma once
-#include <array>
 #include <cmath>
 #include <functional>
 #include <map>
@@ -25,43 +19,20 @@
 #include <vector>
 
 #include "common/schema.hpp"
+#include "ssdem/contact/table.hpp"
 
 namespace ssdem {
 
-/// How a sliding contact is capped.
-enum class SlipRule {
-  coulomb,  ///< rescale F_T to mu_s |F_N| and set S so that k_t S + C_t u_t = F_T (strict Coulomb)
-  pkdgrav   ///< pkdgrav DoDEM: zero S and apply min(mu_s |F_N|, C_t |u_t|) along u_t
-};
-/// Scene spellings of SlipRule (key contact.tangential.slip).
-inline constexpr std::array kSlipRules{common::Choice{"coulomb", SlipRule::coulomb},
-                                       common::Choice{"pkdgrav", SlipRule::pkdgrav}};
+/// Resolved parameters of the contact law (SI): every part's Params, the enabled set, beta.
+struct ContactParams : TableInfo::Params {
+  unsigned parts = 0;  ///< OR of the parts' flags (the linear normal law has none)
+  double beta = 0.5;   ///< shape parameter of the rolling/twisting contact size a = beta Rbar
 
-/// Enabled parts as bit flags.
-enum ContactPart : unsigned {
-  kPartDamping = 1u,
-  kPartTangential = 2u,
-  kPartRolling = 4u,
-  kPartTwisting = 8u,
-};
-
-/// Resolved parameters of the contact law (SI).
-struct ContactParams {
-  unsigned parts = 0;       ///< OR of ContactPart flags (normal always on)
-  double kn = 0.0;          ///< normal spring constant [N/m]
-  double en = 1.0;          ///< normal restitution coefficient (damping part)
-  double kt_over_kn = 2.0 / 7.0;
-  double et = 1.0;          ///< tangential "restitution" setting C_t (tangential part)
-  double mu_s = 0.0;        ///< static friction coefficient
-  double mu_r = 0.0;        ///< rolling friction coefficient
-  double mu_t = 0.0;        ///< twisting friction coefficient
-  double beta = 0.5;        ///< shape parameter of the rolling/twisting contact size a = beta Rbar
-  SlipRule slip = SlipRule::coulomb;
-
+  bool has(unsigned flag) const { return (parts & flag) != 0u; }
   double kt() const { return kt_over_kn * kn; }
-  /// C_n / sqrt(mu): damping prefactor (0 when the damping part is off).
+  /// C_n / sqrt(mu) of the linear law: damping prefactor (0 when the damping part is off).
   double cn_pre() const { return (parts & kPartDamping) ? damping_prefactor(kn, en) : 0.0; }
-  /// C_t / sqrt(mu).
+  /// C_t / sqrt(mu) of the linear law.
   double ct_pre() const {
     return (parts & kPartTangential) && (parts & kPartDamping) ? damping_prefactor(kt(), et) : 0.0;
   }
@@ -77,17 +48,18 @@ struct ContactParams {
     const double le = std::log(e);
     return -le / std::sqrt(M_PI * M_PI + le * le);
   }
-  /// Contact duration of a pair of reduced mass mu: pi sqrt(mu / (k_n (1 - xi^2))).
-  double contact_time(double mu) const {
-    const double xi = (parts & kPartDamping) ? damping_ratio(en) : 0.0;
-    return M_PI * std::sqrt(mu / (kn * (1.0 - xi * xi)));
-  }
+  /// Contact duration of a pair of reduced mass mu and reduced radius Rbar. Linear law:
+  /// pi sqrt(mu / (k_n (1 - xi^2))) (Rbar unused); Hertz: the undamped Hertz time at the impact
+  /// speed vmax (normal_hertz.hpp).
+  double contact_time(double mu, double Rbar = 0.0) const;
 };
 
 /// One registered contact part.
 struct ContactPartInfo {
   std::string name;
-  unsigned flag = 0;  ///< 0 for the mandatory normal part
+  unsigned flag = 0;  ///< 0 for the default normal law
+  unsigned requires_parts = 0;
+  PartSlot slot = PartSlot::additive;
   std::string help;
   common::Schema schema;  ///< keys relative to `contact.<name>.`
   /// Read this part's values from the scene into `p`.
@@ -110,7 +82,7 @@ class ContactPartRegistry {
   std::map<std::string, ContactPartInfo> parts_;
 };
 
-/// Register normal, damping, tangential, rolling, twisting.
+/// Register every part of the table (contact/table.hpp).
 void register_builtin_contact_parts(ContactPartRegistry& reg);
 
 /// Gravel-like parameter set (ssdem.md §1.8, Spheral DEM test defaults citing Zhang et al.):

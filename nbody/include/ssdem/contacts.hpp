@@ -33,9 +33,10 @@
 /// of when and how the list was updated: listed pairs not in contact contribute nothing and
 /// reset their history exactly as an unlisted pair has none, so the trajectories are
 /// bit-identical to a list rebuilt from scratch every step.
-/// History: per pair (S, n_old, theta_r, theta_q) for the enabled parts only, carried across
-/// updates by an (i, j)-key merge (a pair in contact is never dropped, by the criterion above)
-/// and exported/imported for checkpoints keyed by ids.
+/// History: one ContactHistory (contact/history.hpp, structure of arrays, columns of the enabled
+/// parts only) per pair, carried across updates by an (i, j)-key merge (a pair in contact is
+/// never dropped, by the criterion above), a second one for the wall contacts, both exported and
+/// imported for checkpoints keyed by ids.
 #pragma once
 #include <cstdint>
 #include <unordered_map>
@@ -51,14 +52,6 @@ struct Plane {
   Vec3 point = Vec3::Zero();
   Vec3 normal = Vec3::UnitZ();  ///< unit normal pointing into the domain
 };
-
-/// One history record as written to checkpoints. For a wall contact id_b = kWallIdBase + wall.
-struct HistoryRecord {
-  std::uint64_t id_a = 0, id_b = 0;
-  Vec3 S = Vec3::Zero(), n_old = Vec3::Zero(), theta_r = Vec3::Zero();
-  double theta_q = 0.0;
-};
-inline constexpr std::uint64_t kWallIdBase = 0xFFFFFFFF00000000ull;
 
 /// Per-step contact statistics.
 struct ContactStats {
@@ -133,23 +126,17 @@ class ContactSystem {
   ContactCoeffs coeffs_;
   std::vector<Plane> walls_;
   double skin_;
-  bool tang_, roll_, twist_, hist_;
 
   // pair list (i < j), sorted
   std::vector<std::uint32_t> pi_, pj_;
-  std::vector<std::uint8_t> active_;
-  std::vector<Vec3> S_, nold_, thr_;
-  std::vector<double> thq_;
+  ContactHistory ph_;  // per pair
   // per-pair results
   std::vector<Vec3> pF_, pTp_, pTn_;
   // CSR of pairs where the sphere is the j member (ascending i)
   std::vector<std::uint32_t> jrow_, jpair_;
   // CSR of pairs where the sphere is the i member: contiguous range
   std::vector<std::uint32_t> irow_;
-  // wall history, N x nwalls
-  std::vector<std::uint8_t> wactive_;
-  std::vector<Vec3> wS_, wnold_, wthr_;
-  std::vector<double> wthq_;
+  ContactHistory wh_;  // wall contacts, row = sphere * nwalls + wall
   std::vector<Vec3> xref_;  // reference positions r_i
   // cell grid of the reference positions: cell key -> first sphere, doubly linked per cell
   double cell_ = 0.0;

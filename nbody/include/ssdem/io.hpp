@@ -6,8 +6,12 @@
 ///   /ssdem_state  attrs: step, time [s], gravity_step, dt [s], gravity_every, kn [N/m]
 ///                 a (N x 3, m/s^2), alpha (N x 3, rad/s^2), ag (N x 3, m/s^2; self-gravity only),
 ///                 a_prev, alpha_prev (N x 3; previous step, for the extrapolated predictor)
-///                 history/{id_a, id_b (uint64 P), S (P x 3, m), n_old (P x 3, 1),
-///                          theta_r (P x 3, rad), theta_q (P, rad)}
+///                 history/{id_a, id_b (uint64 P), and one dataset per history field of the
+///                          contact table (contact/table.hpp): n_old (P x 3, 1), S (P x 3, m),
+///                          theta_r (P x 3, rad), theta_q (P, rad), ...}
+///                 bonds/ (only with bonds; bonds.hpp): attr released_energy [J]; id_a, id_b (uint64 B),
+///                          kn, ks (N/m^3), sigma_c, tau_c (Pa), radius, length0 (m), broken (0/1),
+///                          Fs (B x 3, N), Mb (B x 3, N m), n_old (B x 3), Mt (N m)
 /// written through the common::H5Hook extra-group mechanism. Wall contacts have
 /// id_b = 0xFFFFFFFF00000000 + wall index. Together with positions, velocities and spins this is
 /// the complete dynamic state: a restart continues bit-identically.

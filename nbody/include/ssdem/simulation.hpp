@@ -31,6 +31,7 @@
 #include <optional>
 #include <vector>
 
+#include "ssdem/bonds.hpp"
 #include "ssdem/contacts.hpp"
 #include "ssdem/gravity.hpp"
 #include "ssdem/spheres.hpp"
@@ -51,6 +52,7 @@ struct SimConfig {
   double max_overlap_frac = 1.0; ///< overlap / smaller radius that stops the run (exit 3)
   double min_steps_per_contact = 10.0;
   bool extrapolated_predictor = true;  ///< false: pkdgrav predictor v_{n+1/2} + (h/2) a_n
+  BondSet bonds;  ///< bonds of a fresh start (bonds.hpp; a restart takes SimState::bonds); needs contacts
 };
 
 /// The complete dynamic state (what a checkpoint holds): restart from it is bit-identical.
@@ -62,11 +64,15 @@ struct SimState {
   std::int64_t gravity_step = -1;  ///< step at which ag was computed
   std::vector<Vec3> a_prev, alpha_prev;  ///< previous contact accelerations (predictor); may be empty
   std::vector<HistoryRecord> history;
+  BondSet bonds;  ///< bonds with their state (empty: none)
 };
 
 struct Diagnostics {
   double kinetic = 0, rotational = 0, potential_self = 0, potential_uniform = 0, elastic = 0;
   double total() const { return kinetic + rotational + potential_self + potential_uniform + elastic; }
+  double bond_elastic = 0;   ///< part of `elastic` stored in intact bonds [J]
+  double bond_released = 0;  ///< stored energy of the bonds broken so far [J] (left the total)
+  std::size_t bonds = 0, bonds_broken = 0;
   Vec3 momentum = Vec3::Zero();
   Vec3 angular_momentum = Vec3::Zero();  ///< orbital + spin, about the origin
   std::size_t contacts = 0, wall_contacts = 0;
@@ -108,6 +114,7 @@ class Simulation {
   bool has_contacts() const { return contacts_ != nullptr; }
   const ContactSystem* contact_system() const { return contacts_.get(); }
   const TreeGravity* tree() const { return tree_.get(); }
+  const BondSystem* bond_system() const { return bonds_.get(); }
 
   /// Energies (potential recomputed at the current positions if stale), momenta, contacts.
   Diagnostics diagnostics();
@@ -137,6 +144,8 @@ class Simulation {
   double time_ = 0.0;
   std::unique_ptr<ContactSystem> contacts_;
   std::unique_ptr<TreeGravity> tree_;
+  std::unique_ptr<BondSystem> bonds_;  ///< only when the scene has bonds
+  void setup_bonds(BondSet b);
   ContactStats cstats_;
   PhaseTimes times_;
   std::int64_t keep_every_ = 0;

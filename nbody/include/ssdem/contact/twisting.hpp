@@ -1,0 +1,75 @@
+/// @file twisting.hpp
+/// Contact part "twisting": spring-dashpot-slider twisting resistance (Zhang et al. 2017, Icarus
+/// 294:98; pkdgrav DoDEM; ssdem.md §1.4b).
+///   theta_q += (dw.n)(half step) h;  M_tw = (k_q theta_q + C_q dw.n) n,
+///   k_q = 2 k_t a^2, C_q = 2 C_t a^2, |k_q theta_q| <= mu_t mu_s a |F_N| (note the mu_s, as in
+///   pkdgrav); beyond it M_tw = the limit, no dashpot, increment undone.
+///   Torque on p: +M_tw, on n: -M_tw.  Needs the tangential part (k_t, C_t, mu_s).
+/// History: theta_q [rad] (scalar, symmetric in the pair order). Energy: k_q theta_q^2 / 2.
+#pragma once
+#include <array>
+#include <cmath>
+
+#include "ssdem/contact/damping.hpp"
+#include "ssdem/contact/part.hpp"
+#include "ssdem/contact/tangential.hpp"
+
+namespace ssdem {
+
+inline constexpr unsigned kPartTwisting = 8u;
+
+struct Twisting : PartBase {
+  static constexpr const char* name = "twisting";
+  static constexpr unsigned flag = kPartTwisting;
+  static constexpr unsigned requires_parts = kPartTangential;
+  static constexpr PartSlot slot = PartSlot::additive;
+  static constexpr const char* help =
+      "twisting spring-dashpot-slider, k_q = 2 k_t a^2, limit mu_t mu_s a |F_N| (Zhang+2017)";
+  static constexpr std::array<HistoryField, 1> history{HistoryField{"theta_q", "rad", 1, false, false}};
+  struct Params {
+    double mu_t = 0.0;  ///< twisting friction coefficient
+  };
+  static void declare(common::Schema& s) {
+    s.add_real("mu_t", 1.3, "1", 0.0, 100.0, "twisting friction coefficient mu_t");
+  }
+  template <class P>
+  static void read(const common::Scene& s, const std::string& pre, P& p) {
+    p.mu_t = s.real(pre + "mu_t");
+  }
+  struct Coeffs {
+    double mu_t;
+    template <class P>
+    explicit Coeffs(const P& p) : mu_t(p.mu_t) {}
+  };
+  template <unsigned PARTS, bool WALL, class N, class C, class H>
+  static void tangent_phase(const C& c, PairCtx& k, const H& h) {
+    const Vec3& n = k.n;
+    const double a = c.beta * k.Rbar;
+    Vec3 dw, dwh;
+    relative_spins<WALL>(k, dw, dwh);
+    const double dwn = dw.dot(n), dwhn = dwh.dot(n);
+    double& q = h.scal(0);
+    q += dwhn * k.h;
+    const double kq = 2.0 * k.kt * a * a;
+    const double crit = c.mu_t * c.mu_s * a * k.FNmag;
+    double Mq = kq * q;
+    if (std::fabs(Mq) > crit) {
+      Mq = std::copysign(crit, Mq);
+      q -= dwhn * k.h;
+    } else if constexpr ((PARTS & kPartDamping) != 0u) {
+      Mq += 2.0 * k.ct * a * a * dwn;
+    }
+    k.Tp += Mq * n;
+    if constexpr (!WALL) k.Tn -= Mq * n;
+  }
+  template <class N, class C, class H>
+  static double energy(const C& c, const EnergyCtx& e, const H& h) {
+    double kn, kt;
+    N::stiffness(c, e.x, e.Rbar, kn, kt);
+    const double a = c.beta * e.Rbar;
+    const double q = h.scal(0);
+    return 0.5 * 2.0 * kt * a * a * q * q;
+  }
+};
+
+}  // namespace ssdem
