@@ -59,10 +59,11 @@ struct ParticleSnapshot;  // common/particle_file.hpp (include it to call Solver
 namespace mpmfrag {
 
 /// Stress-update order.
-enum class Scheme { usl, usf, musl };
+enum class Scheme { usl, usf, musl, midpoint };
 /// Scene names of the schemes (`solver.scheme`): the one table the schema and the log use.
 inline constexpr std::array kSchemes{common::Choice{"usl", Scheme::usl}, common::Choice{"usf", Scheme::usf},
-                                     common::Choice{"musl", Scheme::musl}};
+                                     common::Choice{"musl", Scheme::musl},
+                                     common::Choice{"midpoint", Scheme::midpoint}};
 /// Grid face condition.
 enum class BoundaryType { free, fixed, symmetry };
 /// Scene names of the face conditions (`boundary.<face>`).
@@ -71,8 +72,9 @@ inline constexpr std::array kBoundaryTypes{common::Choice{"free", BoundaryType::
                                            common::Choice{"symmetry", BoundaryType::symmetry}};
 
 /// Which of a grid node's two velocity slots a stage reads or constrains (Solver::Node):
-/// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i.
-enum class GridSlot { velocity, updated_velocity };
+/// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i;
+/// `midpoint` (only as the velocity of L in G2P) is their mean (v_i + v*_i)/2.
+enum class GridSlot { velocity, updated_velocity, midpoint };
 
 
 /// Solver options (scene keys under [solver], [boundary], [time], [grid] and gravity.uniform).
@@ -221,7 +223,9 @@ class Solver {
   void build_chunks();
   /// Move the particles flagged in `out` to the outflow record and compact every array.
   void remove_particles(const std::vector<char>& out);
-  void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs);
+  /// Material update of chunk c; `vpre` (G2P) holds the volumes V_n before this step's F update.
+  void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs,
+                          const double* vpre = nullptr);
 
   SolverConfig cfg_;
   common::GridInfo grid_;

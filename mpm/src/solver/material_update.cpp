@@ -16,7 +16,8 @@ namespace mpmfrag {
 
 using namespace detail;
 
-void Solver::run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs) {
+void Solver::run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs,
+                                const double* vpre) {
   const Chunk ch = chunks_[c];
   const MaterialSlot& slot = mats_[ch.mat];
   const std::size_t n = ch.end - ch.begin;
@@ -73,7 +74,11 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
     const double* l = L + 9 * k;
     const double rho = b.mass[k] / b.volume[k];
     const double trD = l[0] + l[4] + l[8];
-    if (dt > 0.0) {
+    const bool consistent = vpre && cfg_.scheme == Scheme::midpoint;
+    if (consistent && dt > 0.0) {
+      // the power of the grid force: V_n (sigma_n - q_n I) : L(v_mid)
+      e[k] += dt * vpre[k] * (wpre[k] - (q ? q[k] * trD : 0.0)) / b.mass[k];
+    } else if (dt > 0.0) {
       const double wpost = stress_power(s, l);
       e[k] += 0.5 * dt * (wpre[k] + wpost) / rho;
     }
@@ -84,7 +89,7 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
         qq = rho * (cfg_.av_a1 * bs[k] * (-trD) * hh + cfg_.av_a2 * trD * trD * hh * hh);
       }
       q[k] = qq;
-      if (dt > 0.0) e[k] += qq * (-trD) * dt / rho;
+      if (dt > 0.0 && !consistent) e[k] += qq * (-trD) * dt / rho;
     }
     const double sp2 = ws[k] + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
     const bool finite = std::isfinite(s[0] + s[1] + s[2] + s[3] + s[4] + s[5] + e[k] + sp2);

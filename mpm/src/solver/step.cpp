@@ -121,6 +121,14 @@ void Solver::step(double dt) {
       gather(integral_constant<int, kPos | kGrad>{}, Velocity{});
       break;
     }
+    case Scheme::midpoint:
+      scat(integral_constant<int, kMass | kMom | kForce>{});
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      grid_integrate(dt);
+      apply_bc(GridSlot::updated_velocity);
+      gather(integral_constant<int, kVel | kPos | kGrad>{}, integral_constant<GridSlot, GridSlot::midpoint>{});
+      break;
     case Scheme::usf:
       scat(integral_constant<int, kMass | kMom>{});
       grid_velocity();
