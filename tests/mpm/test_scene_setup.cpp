@@ -36,7 +36,10 @@ TEST(SceneSetup, PrimitivesFillTheirVolume) {
     const mpmfrag::Setup st = mpmtest::setup_from(scene("[[body]]\nmaterial = \"m\"\nshape = \"sphere\"\ncenter = [0.01, 0.0, -0.02]\nradius = 0.3\n"));
     const double V = st.particles.size() * dv, exact = 4.0 / 3.0 * M_PI * 0.027;
     EXPECT_NEAR(V / exact, 1.0, 0.01);
-    EXPECT_NEAR(st.particles.mass[0], 2000.0 * dv, 1e-12);
+    EXPECT_NEAR(st.particles.mass[0], 2000.0 * st.particles.volume0[0], 1e-12);  // exact body: scaled, rho0 kept
+    EXPECT_NEAR(st.particles.mass[0] / (2000.0 * dv), exact / V, 1e-12);
+    const mpmfrag::Setup raw = mpmtest::setup_from(scene("[[body]]\nmaterial = \"m\"\nshape = \"sphere\"\ncenter = [0.01, 0.0, -0.02]\nradius = 0.3\nexact = false\n"));
+    EXPECT_NEAR(raw.particles.mass[0], 2000.0 * dv, 1e-12);  // the raw lattice
     EXPECT_NEAR(st.particles.half_width[0], h / 4, 1e-15);
   }
   {
