@@ -52,7 +52,7 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
 void Solver::initialize() {
   const std::size_t nch = chunks_.size();
   std::fill(chunk_fail_.begin(), chunk_fail_.end(), 0);
-  std::vector<double> L(9 * kChunk, 0.0), wpre(kChunk), ws(kChunk), bs(kChunk);
+  std::vector<double> L(9 * kChunk, 0.0), wpre(2 * kChunk), ws(kChunk), bs(kChunk);
   for (std::size_t p = 0; p < ps_.size(); ++p) ps_.volume[p] = ps_.volume0[p] * det3(ps_.F.data() + 9 * p);
   for (std::size_t c = 0; c < nch; ++c) run_material_chunk(c, 0.0, L.data(), wpre.data(), ws.data(), bs.data());
   for (std::size_t c = 0; c < nch; ++c)
