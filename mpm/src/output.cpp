@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "common/status.hpp"
+#include "mpm/energy_budget.hpp"
 
 namespace mpmfrag {
 
@@ -96,7 +97,13 @@ SeriesWriter::SeriesWriter(const std::string& path)
                                         {"Lz_kgm2_s", "kg m^2/s"},
                                         {"kinetic_J", "J"},
                                         {"internal_J", "J"},
-                                        {"total_J", "J"}},
+                                        {"total_J", "J"},
+                                        {"eos_J", "J"},
+                                        {"elastic_J", "J"},
+                                        {"plastic_J", "J"},
+                                        {"damage_J", "J"},
+                                        {"shock_heat_J", "J"},
+                                        {"transfer_heat_J", "J"}},
                                        {.precision = 12})) {}
 
 void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d) {
@@ -105,6 +112,8 @@ void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnosti
   row.num(d.momentum[0]).num(d.momentum[1]).num(d.momentum[2]);
   row.num(d.angular_momentum[0]).num(d.angular_momentum[1]).num(d.angular_momentum[2]);
   row.num(d.kinetic).num(d.internal).num(d.total());
+  const EnergyBudget e = energy_budget(d);
+  row.num(e.eos).num(e.elastic).num(e.plastic).num(e.damage).num(e.shock_heat).num(e.transfer_heat);
   file_.write(row);
 }
 

@@ -42,6 +42,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
 
   const std::size_t n = st.particles.size();
+  log_bodies(st.bodies);
   Solver solver(st.solver, st.grid, std::move(st.particles), std::move(st.materials));
   if (st.body_force) solver.set_body_force(st.body_force);  // [[body]] drive.*
   RunSummary sum;

@@ -9,6 +9,8 @@
 #include <limits>
 #include <map>
 
+#include <spdlog/spdlog.h>
+
 #include "common/finite.hpp"
 #include "mpm/body_drive.hpp"
 #include "common/status.hpp"
@@ -17,6 +19,13 @@ namespace mpmfrag {
 namespace {
 
 constexpr double kBig = 1e30;
+
+/// One generated particle (before grouping by material).
+struct Gen {
+  Eigen::Vector3d x, v;
+  double V, m, lp;
+  int mat;
+};
 
 enum class BodyShape { sphere, box, cylinder };
 constexpr std::array kBodyShapes{common::Choice{"sphere", BodyShape::sphere}, common::Choice{"box", BodyShape::box},
@@ -59,48 +68,62 @@ std::map<std::string, common::Schema> body_shape_styles() {
   return styles;
 }
 
-struct Primitive {
-  std::function<bool(const Eigen::Vector3d&)> inside;
-  Eigen::Vector3d lo, hi, center;
-};
+}  // namespace
 
-Primitive make_primitive(const common::Scene& b, const std::string& where) {
-  Primitive p;
+BodyPrimitive make_body_primitive(const common::Scene& b, const std::string& where) {
+  BodyPrimitive p;
   const BodyShape shape = b.choice("shape", kBodyShapes);
   if (shape == BodyShape::sphere) {
     const Eigen::Vector3d c = b.vec3("center");
     const double r = b.real("radius");
-    p.inside = [c, r](const Eigen::Vector3d& x) { return (x - c).squaredNorm() <= r * r; };
+    p.depth = [c, r](const Eigen::Vector3d& x) { return r - (x - c).norm(); };
     p.lo = c.array() - r;
     p.hi = c.array() + r;
     p.center = c;
+    p.volume = 4.0 / 3.0 * M_PI * r * r * r;
+    p.radius = r;
   } else if (shape == BodyShape::box) {
     const Eigen::Vector3d lo = b.vec3("min"), hi = b.vec3("max");
     if (!((hi - lo).minCoeff() > 0)) throw common::InputError(where, "max", "box max must exceed min in every axis");
-    p.inside = [lo, hi](const Eigen::Vector3d& x) { return (x.array() >= lo.array()).all() && (x.array() <= hi.array()).all(); };
+    p.depth = [lo, hi](const Eigen::Vector3d& x) { return std::min((x - lo).minCoeff(), (hi - x).minCoeff()); };
     p.lo = lo;
     p.hi = hi;
     p.center = 0.5 * (lo + hi);
+    p.volume = (hi - lo).prod();
   } else {
     const Eigen::Vector3d c = b.vec3("center");
     const double r = b.real("radius"), len = b.real("length");
     const int a = static_cast<int>(b.choice("axis", kAxes));
-    p.inside = [c, r, len, a](const Eigen::Vector3d& x) {
+    p.depth = [c, r, len, a](const Eigen::Vector3d& x) {
       Eigen::Vector3d d = x - c;
       const double along = d[a];
       d[a] = 0;
-      return std::fabs(along) <= 0.5 * len && d.squaredNorm() <= r * r;
+      return std::min(0.5 * len - std::fabs(along), r - d.norm());
     };
     p.lo = c.array() - r;
     p.hi = c.array() + r;
     p.lo[a] = c[a] - 0.5 * len;
     p.hi[a] = c[a] + 0.5 * len;
     p.center = c;
+    p.volume = M_PI * r * r * len;
   }
   return p;
 }
 
-}  // namespace
+int lattice_owner(const std::vector<BodyPrimitive>& earlier, const BodyPrimitive& self, const Eigen::Vector3d& x,
+                  double tol, const std::string& where) {
+  const double depth = self.depth(x);
+  if (depth < -tol) return -1;
+  // Tie rule: a lattice point inside an earlier body or within tol of its surface belongs to that
+  // body; only a point deeper than tol inside both bodies is an overlap.
+  for (std::size_t q = 0; q < earlier.size(); ++q) {
+    const double dq = earlier[q].depth(x);
+    if (dq < -tol) continue;
+    if (dq > tol && depth > tol) throw common::InputError(where, "", "body overlaps body[" + std::to_string(q) + "]");
+    return static_cast<int>(q);
+  }
+  return static_cast<int>(earlier.size());
+}
 
 common::Schema mpm_schema(const MaterialRegistry& reg) {
   common::Schema s("mpm-frag scene");
@@ -170,6 +193,10 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
              "prescribed velocity of a driven body");
   b.add_real("drive.ramp_time", 0.0, "s", 0.0, kBig, "driven body: linear ramp of the velocity from 0");
   b.add_real("drive.relaxation_time", 1e-7, "s", 1e-15, kBig, "driven body: relaxation time (>> dt)", true);
+  b.add_bool("exact", true,
+             "scale particle masses and volumes so that the body's mass is rho0 x its true volume, and shift "
+             "its lattice (< h/(2 ppc)) so that its centre of mass is the primitive's centre (false: the raw "
+             "lattice, rho0 (h/ppc)^3 per particle)");
   b.add_style_switch("shape", body_shape_styles());
   return s;
 }
@@ -234,15 +261,11 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   }
 
   // bodies -> particles (generation order = id order), then grouped by material
-  struct Gen {
-    Eigen::Vector3d x, v;
-    double V, m, lp;
-    int mat;
-  };
   std::vector<Gen> gen;
-  std::vector<Primitive> prims;
+  std::vector<BodyPrimitive> prims;
   std::vector<BodyDrive> drives;
   const std::size_t nb = sc.count("body");
+  st.bodies.resize(nb);
   for (std::size_t i = 0; i < nb; ++i) {
     const common::Scene b = sc.element("body", i);
     const std::string where = sc.source() + ": body[" + std::to_string(i) + "]";
@@ -250,33 +273,68 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
     for (std::size_t k = 0; k < nm; ++k)
       if (mat_names[k] == b.string("material")) mat = static_cast<int>(k);
     if (mat < 0) throw common::InputError(where, "material", "no [[material]] named '" + b.string("material") + "'");
-    const Primitive pr = make_primitive(b, where);
+    const BodyPrimitive pr = make_body_primitive(b, where);
     if ((pr.lo.array() < lo.array() - 1e-9 * h).any() || (pr.hi.array() > dom_hi.array() + 1e-9 * h).any())
       throw common::InputError(where, "", "body extends outside the domain [grid.domain_min, grid.domain_max]");
+    const double tol = kSurfaceTolerance * h;
+    for (std::size_t q = 0; q < prims.size(); ++q)  // spheres: the exact test, independent of the lattice
+      if (pr.radius > 0 && prims[q].radius > 0 &&
+          (pr.center - prims[q].center).norm() < pr.radius + prims[q].radius - tol)
+        throw common::InputError(where, "", "body overlaps body[" + std::to_string(q) + "] (the spheres intersect)");
     const int ppc = static_cast<int>(b.integer("ppc"));
     const double dx = h / ppc, V = dx * dx * dx, rho = slots[mat].model->density();
-    const Eigen::Vector3d v0 = b.vec3("velocity"), w = b.vec3("angular_velocity");
     Eigen::Vector3i c0, c1;
     for (int d = 0; d < 3; ++d) {
       c0[d] = static_cast<int>(std::floor((pr.lo[d] - lo[d]) / h)) - 1;
       c1[d] = static_cast<int>(std::ceil((pr.hi[d] - lo[d]) / h)) + 1;
     }
-    std::size_t count = 0;
+    const std::size_t first = gen.size();
     for (int k = c0[2] * ppc; k < c1[2] * ppc; ++k)
       for (int j = c0[1] * ppc; j < c1[1] * ppc; ++j)
         for (int ii = c0[0] * ppc; ii < c1[0] * ppc; ++ii) {
           const Eigen::Vector3d x = lo + dx * Eigen::Vector3d(ii + 0.5, j + 0.5, k + 0.5);
-          if (!pr.inside(x)) continue;
-          for (std::size_t q = 0; q < prims.size(); ++q)
-            if (prims[q].inside(x))
-              throw common::InputError(where, "", "body overlaps body[" + std::to_string(q) + "]");
-          gen.push_back({x, v0 + w.cross(x - pr.center), V, rho * V, 0.5 * dx, mat});
-          ++count;
+          if (lattice_owner(prims, pr, x, tol, where) == static_cast<int>(prims.size()))
+            gen.push_back({x, Eigen::Vector3d::Zero(), V, rho * V, 0.5 * dx, mat});
         }
+    const std::size_t count = gen.size() - first;
     if (count == 0) throw common::InputError(where, "", "body contains no particle (smaller than a particle spacing?)");
     if (b.boolean("drive.enabled"))
       drives.push_back({gen.size() - count, gen.size(), b.vec3("drive.velocity"), b.real("drive.ramp_time"),
                         b.real("drive.relaxation_time")});
+    BodyInfo& bi = st.bodies[i];
+    bi.name = b.string("name");
+    bi.particles = count;
+    bi.nominal_mass = rho * pr.volume;
+    bi.lattice_mass = rho * V * static_cast<double>(count);
+    bi.center = pr.center;
+    bi.exact = b.boolean("exact");
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();
+    for (std::size_t g = first; g < gen.size(); ++g) com += gen[g].x;
+    com /= static_cast<double>(count);
+    bi.lattice_center = com;
+    if (bi.exact) {
+      // Exact body: every particle's mass AND volume scaled by M/(n rho V) (the density stays rho0,
+      // so the initial state is stress-free), the lattice shifted by less than dx/2 so that the
+      // centre of mass is the primitive's centre.
+      const double scale = bi.nominal_mass / bi.lattice_mass;
+      const Eigen::Vector3d shift = pr.center - com;
+      for (std::size_t g = first; g < gen.size(); ++g) {
+        gen[g].x += shift;
+        gen[g].V *= scale;
+        gen[g].m *= scale;
+      }
+    }
+    const Eigen::Vector3d v0 = b.vec3("velocity"), w = b.vec3("angular_velocity");
+    double mass = 0;
+    Eigen::Vector3d mx = Eigen::Vector3d::Zero();
+    for (std::size_t g = first; g < gen.size(); ++g) {
+      gen[g].v = v0 + w.cross(gen[g].x - pr.center);
+      mass += gen[g].m;
+      mx += gen[g].m * gen[g].x;
+    }
+    bi.mass = mass;
+    bi.mass_center = mx / mass;
+    bi.velocity = v0;
     prims.push_back(pr);
   }
   ParticleSet& ps = st.particles;
@@ -304,6 +362,30 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   st.materials = std::move(slots);
   st.body_force = make_drive_force(std::move(drives));
   return st;
+}
+
+double impact_energy(const std::vector<BodyInfo>& bodies, bool discretised) {
+  if (bodies.size() < 2) return 0.0;
+  const BodyInfo *t = &bodies[0], *i = &bodies[1];
+  if (i->nominal_mass > t->nominal_mass) std::swap(t, i);
+  const double mi = discretised ? i->mass : i->nominal_mass, mt = discretised ? t->mass : t->nominal_mass;
+  return 0.5 * mi * (i->velocity - t->velocity).squaredNorm() / mt;
+}
+
+void log_bodies(const std::vector<BodyInfo>& bodies) {
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    const BodyInfo& b = bodies[i];
+    const Eigen::Vector3d d = b.mass_center - b.center, s = b.lattice_center - b.center;
+    spdlog::info("body[{}] '{}': {} particles, mass {:.10g} kg (nominal rho0 V {:.10g} kg, lattice {:.6g} x nominal{}), "
+                 "centre of mass - centre = ({:.3g}, {:.3g}, {:.3g}) m (lattice: ({:.3g}, {:.3g}, {:.3g}) m)",
+                 i, b.name, b.particles, b.mass, b.nominal_mass, b.lattice_mass / b.nominal_mass,
+                 b.exact ? ", scaled to nominal" : ", body[].exact = false", d[0], d[1], d[2], s[0], s[1], s[2]);
+  }
+  if (bodies.size() >= 2) {
+    const double q = impact_energy(bodies, true), qn = impact_energy(bodies, false);
+    spdlog::info("impact: Q = m_imp U^2 / (2 M_target) = {:.10g} J/kg from the particles, {:.10g} J/kg nominal "
+                 "(ratio - 1 = {:.3g})", q, qn, q / qn - 1.0);
+  }
 }
 
 }  // namespace mpmfrag

@@ -40,11 +40,14 @@ struct Result {
   double l1 = 0;  ///< mean over cell bins of the upper plate of |<P>_bin - P_exact| / P_H (exact: a step)
   std::size_t particles = 0;
   std::int64_t steps = 0;
+  double e_behind = 0;            ///< mean specific internal energy behind the shock (upper plate) [J/kg]
+  mpmfrag::Diagnostics d0, d1;    ///< totals at t = 0 and t_end
 };
 
 /// cells: cells across one plate (plate thickness 0.1 m); t_end such that the shock has run
 /// about 60 % of the plate.
-inline Result run(int cells, double up = 2500.0, double t_end = 1.2e-5, int ppc = 2) {
+inline Result run(int cells, double up = 2500.0, double t_end = 1.2e-5, int ppc = 2,
+                  const std::string& scheme = "musl") {
   const double Lp = 0.1, h = Lp / cells;
   const std::string toml = R"(
 [grid]
@@ -52,7 +55,7 @@ domain_min = [0.0, 0.0, -0.11]
 domain_max = [)" + std::to_string(h) + ", " + std::to_string(h) + R"(, 0.11]
 cell_size = )" + std::to_string(h) + R"(
 [solver]
-scheme = "musl"
+scheme = ")" + scheme + R"("
 courant = 0.3
 artificial_viscosity.enabled = true
 [boundary]
@@ -84,8 +87,10 @@ ppc = )" + std::to_string(ppc) + R"(
 )";
   const auto t0 = std::chrono::steady_clock::now();
   mpmfrag::Solver s = mpmtest::solver_from(mpmtest::setup_from(toml));
-  mpmtest::run_to(s, t_end);
   Result r;
+  r.d0 = s.diagnostics();
+  mpmtest::run_to(s, t_end);
+  r.d1 = s.diagnostics();
   r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.particles = s.particles().size();
   r.steps = s.step_count();
@@ -93,7 +98,7 @@ ppc = )" + std::to_string(ppc) + R"(
   const mpmfrag::ParticleSet& ps = s.particles();
   const double zs_guess = (hugoniot(mpmfrag::TillotsonParams{}, up).Us - up) * t_end;
   std::vector<std::pair<double, double>> prof;  // (z, P)
-  double Psum = 0, rsum = 0, vsum = 0;
+  double Psum = 0, rsum = 0, vsum = 0, esum = 0;
   int cnt = 0;
   for (std::size_t p = 0; p < ps.size(); ++p) {
     const double z = ps.x[3 * p + 2];
@@ -104,12 +109,14 @@ ppc = )" + std::to_string(ppc) + R"(
       Psum += P;
       rsum += ps.mass[p] / ps.volume[p];
       vsum += ps.v[3 * p + 2];
+      esum += ps.energy[p];
       ++cnt;
     }
   }
   r.P = Psum / cnt;
   r.rho = rsum / cnt;
   r.v_behind = vsum / cnt;
+  r.e_behind = esum / cnt;
   const Exact ex = hugoniot(mpmfrag::TillotsonParams{}, up);
   const double zs_exact = (ex.Us - up) * t_end;
   // cell-binned profile (mass-weighted = particle mean, equal masses), as recommended for MPM

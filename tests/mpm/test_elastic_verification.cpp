@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "spheres_scene.hpp"
 #include "test_helpers.hpp"
 
 using namespace mpmfrag;
@@ -141,41 +142,9 @@ max = [2.0, 0.01, 0.01]
   EXPECT_NEAR(cm / c, 1.0, 0.01);
 }
 
-namespace {
-const char* kSpheres = R"(
-[grid]
-domain_min = [-0.3, -0.1, -0.1]
-domain_max = [0.3, 0.1, 0.1]
-cell_size = 0.01
-[solver]
-scheme = "musl"
-courant = 0.3
-min_mass_fraction = 0.0
-[time]
-end = 0.03
-[[material]]
-name = "soft"
-model = "elastic"
-density = 1000.0
-bulk_modulus = 1.0e7
-shear_modulus = 3.0e6
-[[body]]
-material = "soft"
-shape = "sphere"
-center = [-0.06, 0.003, 0.0]
-radius = 0.05
-velocity = [5.0, 0.0, 0.0]
-[[body]]
-material = "soft"
-shape = "sphere"
-center = [0.06, -0.003, 0.0]
-radius = 0.05
-velocity = [-5.0, 0.0, 0.0]
-)";
-}  // namespace
 
 TEST(CollidingSpheres, MomentumToRoundOffEnergyReported) {
-  Solver s = mpmtest::solver_from(mpmtest::setup_from(kSpheres));
+  Solver s = mpmtest::solver_from(mpmtest::setup_from(mpmtest::kSpheres));
   const Diagnostics d0 = s.diagnostics();
   double scale = 0;  // sum m |v|
   for (std::size_t p = 0; p < s.particles().size(); ++p)
@@ -206,7 +175,7 @@ TEST(CollidingSpheres, MomentumToRoundOffEnergyReported) {
 TEST(Determinism, BitIdenticalForOneAndTwoThreads) {
   auto run = [](int threads) {
     omp_set_num_threads(threads);
-    Solver s = mpmtest::solver_from(mpmtest::setup_from(kSpheres, {"solver.reorder_every=7"}));
+    Solver s = mpmtest::solver_from(mpmtest::setup_from(mpmtest::kSpheres, {"solver.reorder_every=7"}));
     mpmtest::run_to(s, 0.004);
     return s.particles();
   };

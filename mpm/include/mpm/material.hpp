@@ -129,6 +129,13 @@ class Material {
   virtual double density() const = 0;
   /// Dilatational wave speed at the reference state [m/s] (for the first time step).
   virtual double reference_wave_speed() const = 0;
+  /// Energy budget (energy_budget.hpp), per particle k of the batch: the recoverable DEVIATORIC
+  /// elastic strain energy the style stores, elastic[k] [J] (its volumetric energy is part of the
+  /// EOS work), and the energy dissipated so far by plastic or granular flow, dissipated[k] [J],
+  /// from the current stress and state (read-only; dt, L unused). Default: both 0 (a fluid).
+  virtual void stored_energies(const MaterialBatch& b, double* elastic, double* dissipated) const {
+    for (std::size_t k = 0; k < b.n; ++k) elastic[k] = dissipated[k] = 0.0;
+  }
   /// Set the initial stress and wave speeds (dt = 0, L = 0, F = initial F). Default: update().
   virtual void initialize(const MaterialBatch& b) const { update(b); }
   /// Advance the stress (and the style's state) of the batch from t_n to t_{n+1}.

@@ -55,6 +55,10 @@ struct ParticleSet {
   std::vector<double> energy;         ///< specific internal energy [J/kg]
   std::vector<double> half_width;     ///< uGIMP half-widths l_p (N x 3, fixed) [m]
   std::vector<double> q;              ///< artificial bulk viscosity [Pa] (only if enabled)
+  // Energy budget (energy_budget.hpp): parts of `energy` accumulated since t = 0 [J/kg]
+  std::vector<double> work_dev;       ///< deviatoric stress work int s : D dt / rho
+  std::vector<double> heat_shock;     ///< artificial-viscosity (shock) heating int q |tr D| dt / rho
+  std::vector<double> heat_transfer;  ///< transfer kinetic-energy fix-up (scheme "midpoint")
 
   /// Call f(ParticleArray<T>) for every array above, in this order (which is also the order of
   /// the state datasets stress, internal_energy in snapshots).
@@ -79,6 +83,9 @@ struct ParticleSet {
     f(f64{{.name = "half_width", .unit = "m", .width = 3, .dataset = "size", .dataset_scale = 2.0},
           &ParticleSet::half_width});
     f(f64{{.name = "q", .unit = "Pa", .optional = true}, &ParticleSet::q});
+    f(f64{{.name = "work_dev", .unit = "J/kg"}, &ParticleSet::work_dev});
+    f(f64{{.name = "heat_shock", .unit = "J/kg"}, &ParticleSet::heat_shock});
+    f(f64{{.name = "heat_transfer", .unit = "J/kg"}, &ParticleSet::heat_transfer});
   }
 
   std::size_t size() const { return id.size(); }

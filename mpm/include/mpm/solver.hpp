@@ -13,6 +13,8 @@
 ///   L_p = sum_i v^L_i (x) grad S_ip,  F <- (I + L dt) F,  V = V0 det F, then the material style.
 ///   USL: v^L = v*. MUSL (Sulsky et al. 1995): the updated particle momenta are projected again
 ///   (v**), v^L = v**. USF: L from v before the force is computed with the new stress.
+///   midpoint: the USL step, with e from the power of the grid force V_n (sigma_n - q_n I) : L(v_mid),
+///   v_mid = (v + v*)/2, and the transfer kinetic-energy fix-up (energy_budget.hpp).
 ///   q = rho (A1 c_bulk |tr D| h + A2 (tr D h)^2) if tr D < 0 else 0 (Uintah; mpm.md §1.5)
 ///   dt = C min(h) / max_p (c_dil,p + |v_p|), capped by dt_max.
 ///
@@ -59,10 +61,11 @@ struct ParticleSnapshot;  // common/particle_file.hpp (include it to call Solver
 namespace mpmfrag {
 
 /// Stress-update order.
-enum class Scheme { usl, usf, musl };
+enum class Scheme { usl, usf, musl, midpoint };
 /// Scene names of the schemes (`solver.scheme`): the one table the schema and the log use.
 inline constexpr std::array kSchemes{common::Choice{"usl", Scheme::usl}, common::Choice{"usf", Scheme::usf},
-                                     common::Choice{"musl", Scheme::musl}};
+                                     common::Choice{"musl", Scheme::musl},
+                                     common::Choice{"midpoint", Scheme::midpoint}};
 /// Grid face condition.
 enum class BoundaryType { free, fixed, symmetry };
 /// Scene names of the face conditions (`boundary.<face>`).
@@ -71,8 +74,9 @@ inline constexpr std::array kBoundaryTypes{common::Choice{"free", BoundaryType::
                                            common::Choice{"symmetry", BoundaryType::symmetry}};
 
 /// Which of a grid node's two velocity slots a stage reads or constrains (Solver::Node):
-/// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i.
-enum class GridSlot { velocity, updated_velocity };
+/// the grid velocity v_i (MUSL: the re-projected v**_i) or the updated velocity v*_i;
+/// `midpoint` (only in G2P): L from v*_i as USL, and the energy from L at (v_i + v*_i)/2.
+enum class GridSlot { velocity, updated_velocity, midpoint };
 
 
 /// Solver options (scene keys under [solver], [boundary], [time], [grid] and gravity.uniform).
@@ -107,6 +111,10 @@ struct Diagnostics {
   Eigen::Vector3d momentum = Eigen::Vector3d::Zero();
   Eigen::Vector3d angular_momentum = Eigen::Vector3d::Zero();  ///< about the origin
   double kinetic = 0, internal = 0;
+  // The parts of `internal` (energy_budget.hpp) [J]: deviatoric stress work, shock (artificial
+  // viscosity) heating, transfer heating; stored deviatoric elastic energy and plastic/granular
+  // dissipation reported by the material styles.
+  double work_dev = 0, heat_shock = 0, heat_transfer = 0, elastic = 0, dissipated = 0;
   std::size_t removed = 0;   ///< particles that left the grid (included in the totals above)
   double removed_mass = 0;   ///< their mass [kg]
   double total() const { return kinetic + internal; }
@@ -221,7 +229,12 @@ class Solver {
   void build_chunks();
   /// Move the particles flagged in `out` to the outflow record and compact every array.
   void remove_particles(const std::vector<char>& out);
-  void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs);
+  /// The style's stored_energies() of particles [begin, begin + n) of material `mat` into el, di.
+  void material_energies(std::size_t mat, std::size_t begin, std::size_t n, double* el, double* di) const;
+  /// Material update of chunk c. `econs` (scheme midpoint, from G2P): per particle the specific
+  /// energy increment of the force power, its deviatoric and its artificial-viscosity part.
+  void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs,
+                          const double* econs = nullptr);
 
   SolverConfig cfg_;
   common::GridInfo grid_;

@@ -32,6 +32,17 @@ class ElasticBase : public Material {
   ElasticBase(double rho, double K, double G) : rho0_(rho), K_(K), G_(G) {}
   double density() const override { return rho0_; }
   double reference_wave_speed() const override { return std::sqrt((K_ + 4.0 * G_ / 3.0) / rho0_); }
+  /// Deviatoric elastic energy V s : s / (4 G) (exact for the linear style; the small-strain value
+  /// of the neo-Hookean one).
+  void stored_energies(const MaterialBatch& b, double* elastic, double* dissipated) const override {
+    for (std::size_t k = 0; k < b.n; ++k) {
+      const double* s = b.stress + 6 * k;
+      const double m = (s[0] + s[1] + s[2]) / 3.0, a = s[0] - m, c = s[1] - m, d = s[2] - m;
+      const double ss = a * a + c * c + d * d + 2.0 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]);
+      elastic[k] = G_ > 0.0 ? b.volume[k] * ss / (4.0 * G_) : 0.0;
+      dissipated[k] = 0.0;
+    }
+  }
 
  protected:
   double rho0_, K_, G_;

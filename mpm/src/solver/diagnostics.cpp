@@ -25,7 +25,27 @@ Diagnostics Solver::diagnostics() const {
     for (std::size_t p = c * kReduceChunk; p < std::min(n, (c + 1) * kReduceChunk); ++p) add_particle_totals(d, ps_, p);
     part[c] = d;
   }
+  // the styles' stored (elastic) and dissipated energies, per material chunk
+  const std::size_t nch = chunks_.size();
+  std::vector<double> el(nch, 0.0), di(nch, 0.0);
+#pragma omp parallel
+  {
+    std::vector<double> a(kChunk), b(kChunk);
+#pragma omp for schedule(static)
+    for (std::size_t c = 0; c < nch; ++c) {
+      const Chunk& ch = chunks_[c];
+      material_energies(static_cast<std::size_t>(ch.mat), ch.begin, ch.end - ch.begin, a.data(), b.data());
+      for (std::size_t k = 0; k < ch.end - ch.begin; ++k) {
+        el[c] += a[k];
+        di[c] += b[k];
+      }
+    }
+  }
   Diagnostics t;
+  for (std::size_t c = 0; c < nch; ++c) {
+    t.elastic += el[c];
+    t.dissipated += di[c];
+  }
   part.push_back(out_diag_);  // removed particles: constant totals, summed last (same order always)
   for (const Diagnostics& d : part) {
     t.mass += d.mass;
@@ -33,10 +53,36 @@ Diagnostics Solver::diagnostics() const {
     t.angular_momentum += d.angular_momentum;
     t.kinetic += d.kinetic;
     t.internal += d.internal;
+    t.work_dev += d.work_dev;
+    t.heat_shock += d.heat_shock;
+    t.heat_transfer += d.heat_transfer;
   }
+  t.elastic += out_diag_.elastic;
+  t.dissipated += out_diag_.dissipated;
   t.removed = out_.size();
   t.removed_mass = out_diag_.mass;
   return t;
+}
+
+void Solver::material_energies(std::size_t mat, std::size_t begin, std::size_t n, double* el, double* di) const {
+  const MaterialSlot& slot = mats_[mat];
+  std::vector<double*> sp(slot.state.size());
+  for (std::size_t f = 0; f < slot.state.size(); ++f)
+    sp[f] = state_pointer(slot, f, begin);
+  MaterialBatch b;
+  b.n = n;
+  b.first = begin;
+  b.cell_size = h_min_;
+  b.seed = cfg_.seed;
+  b.F = ps_.F.data() + 9 * begin;
+  b.stress = const_cast<double*>(ps_.stress.data()) + 6 * begin;  // read-only in stored_energies
+  b.mass = ps_.mass.data() + begin;
+  b.volume = ps_.volume.data() + begin;
+  b.volume0 = ps_.volume0.data() + begin;
+  b.energy = ps_.energy.data() + begin;
+  b.id = ps_.id.data() + begin;
+  b.state = sp.data();
+  slot.model->stored_energies(b, el, di);
 }
 
 double Solver::bytes_per_particle() const {

@@ -74,6 +74,11 @@ struct Stencil {
   return s[0] * l[0] + s[1] * l[4] + s[2] * l[8] + s[3] * (l[5] + l[7]) + s[4] * (l[2] + l[6]) + s[5] * (l[1] + l[3]);
 }
 
+/// Pointer to state array f of `slot` at global particle index `first` (inside the slot's range).
+inline double* state_pointer(const MaterialSlot& slot, std::size_t f, std::size_t first) {
+  return const_cast<double*>(slot.state[f].data()) + static_cast<std::size_t>(slot.style->state_fields[f].ncomp) * (first - slot.begin);
+}
+
 /// Add particle p's mass, momentum, angular momentum (about the origin), kinetic and internal
 /// energy to d (Solver::diagnostics and the outflow record).
 inline void add_particle_totals(Diagnostics& d, const ParticleSet& ps, std::size_t p) {
@@ -85,6 +90,9 @@ inline void add_particle_totals(Diagnostics& d, const ParticleSet& ps, std::size
   d.angular_momentum += m * x.cross(v);
   d.kinetic += 0.5 * m * v.squaredNorm();
   d.internal += m * ps.energy[p];
+  d.work_dev += m * ps.work_dev[p];
+  d.heat_shock += m * ps.heat_shock[p];
+  d.heat_transfer += m * ps.heat_transfer[p];
 }
 
 }  // namespace mpmfrag::detail

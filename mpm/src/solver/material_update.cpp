@@ -16,7 +16,8 @@ namespace mpmfrag {
 
 using namespace detail;
 
-void Solver::run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs) {
+void Solver::run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs,
+                                const double* econs) {
   const Chunk ch = chunks_[c];
   const MaterialSlot& slot = mats_[ch.mat];
   const std::size_t n = ch.end - ch.begin;
@@ -26,6 +27,7 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
     const double* s = stress + 6 * k;
     const double* l = L + 9 * k;
     wpre[k] = stress_power(s, l);
+    wpre[kChunk + k] = (s[0] + s[1] + s[2]) / 3.0 * (l[0] + l[4] + l[8]);  // its volumetric part
   }
   double* sptr[16];
   std::vector<double*> sbig;
@@ -35,7 +37,7 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
     sp = sbig.data();
   }
   for (std::size_t f = 0; f < slot.state.size(); ++f)
-    sp[f] = const_cast<double*>(slot.state[f].data()) + static_cast<std::size_t>(slot.style->state_fields[f].ncomp) * (ch.begin - slot.begin);
+    sp[f] = state_pointer(slot, f, ch.begin);
   MaterialBatch b;
   b.n = n;
   b.first = ch.begin;
@@ -75,9 +77,15 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
     const double* l = L + 9 * k;
     const double rho = b.mass[k] / b.volume[k];
     const double trD = l[0] + l[4] + l[8];
-    if (dt > 0.0) {
-      const double wpost = stress_power(s, l);
+    const bool consistent = econs != nullptr;
+    if (consistent && dt > 0.0) {  // the power of the grid force, computed in G2P (scheme midpoint)
+      e[k] += econs[3 * k];
+      ps_.work_dev[ch.begin + k] += econs[3 * k + 1];
+      ps_.heat_shock[ch.begin + k] += econs[3 * k + 2];
+    } else if (dt > 0.0) {
+      const double wpost = stress_power(s, l), vpost = (s[0] + s[1] + s[2]) / 3.0 * trD;
       e[k] += 0.5 * dt * (wpre[k] + wpost) / rho;
+      ps_.work_dev[ch.begin + k] += 0.5 * dt * (wpre[k] - wpre[kChunk + k] + wpost - vpost) / rho;
     }
     if (q) {
       double qq = 0.0;
@@ -86,7 +94,10 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
         qq = rho * (cfg_.av_a1 * bs[k] * (-trD) * hh + cfg_.av_a2 * trD * trD * hh * hh);
       }
       q[k] = qq;
-      if (dt > 0.0) e[k] += qq * (-trD) * dt / rho;
+      if (dt > 0.0 && !consistent) {
+        e[k] += qq * (-trD) * dt / rho;
+        ps_.heat_shock[ch.begin + k] += qq * (-trD) * dt / rho;
+      }
     }
     const double sp2 = ws[k] + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
     const bool finite = std::isfinite(s[0] + s[1] + s[2] + s[3] + s[4] + s[5] + e[k] + sp2);

@@ -64,6 +64,10 @@ void Solver::remove_particles(const std::vector<char>& out) {
       std::copy_n(s.state[f].begin() + (p - s.begin) * sf.ncomp, sf.ncomp, out_fields_[i].values.begin() + k * sf.ncomp);
     }
     detail::add_particle_totals(out_diag_, ps_, p);
+    double el = 0, di = 0;  // the style's stored and dissipated energy at removal (kept constant)
+    material_energies(static_cast<std::size_t>(ps_.material[p]), p, 1, &el, &di);
+    out_diag_.elastic += el;
+    out_diag_.dissipated += di;
     ++k;
   }
   // 2. Compact the particle arrays and the material state (order preserved).

@@ -52,7 +52,7 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
 void Solver::initialize() {
   const std::size_t nch = chunks_.size();
   std::fill(chunk_fail_.begin(), chunk_fail_.end(), 0);
-  std::vector<double> L(9 * kChunk, 0.0), wpre(kChunk), ws(kChunk), bs(kChunk);
+  std::vector<double> L(9 * kChunk, 0.0), wpre(2 * kChunk), ws(kChunk), bs(kChunk);
   for (std::size_t p = 0; p < ps_.size(); ++p) ps_.volume[p] = ps_.volume0[p] * det3(ps_.F.data() + 9 * p);
   for (MaterialSlot& m : mats_) {  // body size of each material (flaw populations, issue 16)
     Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
@@ -131,6 +131,14 @@ void Solver::step(double dt) {
       gather(integral_constant<int, kPos | kGrad>{}, Velocity{});
       break;
     }
+    case Scheme::midpoint:
+      scat(integral_constant<int, kMass | kMom | kForce>{});
+      grid_velocity();
+      apply_bc(GridSlot::velocity);
+      grid_integrate(dt);
+      apply_bc(GridSlot::updated_velocity);
+      gather(integral_constant<int, kVel | kPos | kGrad>{}, integral_constant<GridSlot, GridSlot::midpoint>{});
+      break;
     case Scheme::usf:
       scat(integral_constant<int, kMass | kMom>{});
       grid_velocity();

@@ -124,7 +124,10 @@ void Solver::scatter() {
 // and the material update of the chunk.
 template <int NPA, int flags, GridSlot Lfrom>
 void Solver::g2p(double dt) {
-  constexpr bool kLfromVelocity = Lfrom == GridSlot::velocity;  // L from v_i (else from v*_i)
+  constexpr bool kLfromVelocity = Lfrom == GridSlot::velocity;  // L from v_i
+  // midpoint: L from v*_i (the USL step), and the energy from L at (v_i + v*_i)/2 (energy_budget.hpp)
+  constexpr bool kLfromMid = Lfrom == GridSlot::midpoint;
+  constexpr bool kHeat = kLfromMid && (flags & kVel) != 0;       // energy-consistent scheme: transfer heat
   const ShapeKind kind = cfg_.shape;
   const int sx = grid_.shape[0], sy = grid_.shape[1];
   const Eigen::Vector3d o = grid_.origin, h = grid_.cell_size;
@@ -134,7 +137,7 @@ void Solver::g2p(double dt) {
   std::fill(chunk_fail_.begin(), chunk_fail_.end(), 0);
 #pragma omp parallel
   {
-    std::vector<double> Lb(9 * kChunk), wpre(kChunk), ws(kChunk), bs(kChunk);
+    std::vector<double> Lb(9 * kChunk), wpre(2 * kChunk), ws(kChunk), bs(kChunk), econs(3 * kChunk);
 #pragma omp for schedule(static)
     for (std::size_t c = 0; c < nch; ++c) {
       const Chunk ch = chunks_[c];
@@ -145,31 +148,47 @@ void Solver::g2p(double dt) {
         const double* lp = ps_.half_width.data() + 3 * p;
         const Stencil st = particle_stencil(kind, xp, lp, o, h, sx, sy);
         const AxisWeights &X = st.X, &Y = st.Y, &Z = st.Z;
-        double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0;
+        double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0, dv2 = 0;
         double L00 = 0, L01 = 0, L02 = 0, L10 = 0, L11 = 0, L12 = 0, L20 = 0, L21 = 0, L22 = 0;
+        [[maybe_unused]] double M00 = 0, M01 = 0, M02 = 0, M10 = 0, M11 = 0, M12 = 0, M20 = 0, M21 = 0, M22 = 0;  // L(v)
         // Tensor-product factorisation: per node row (b,c) first sum over a with wx_a and dwx_a.
         for (int cc = 0; cc < NPA; ++cc) {
           for (int bb = 0; bb < NPA; ++bb) {
             const double wyz = Y.w[bb] * Z.w[cc];
             const Node* row = nodes + st.row(sx, sy, bb, cc);
-            double s0 = 0, s1 = 0, s2 = 0, o0 = 0, o1 = 0, o2 = 0, d0 = 0, d1 = 0, d2 = 0, t0 = 0, t1 = 0, t2 = 0;
+            double s0 = 0, s1 = 0, s2 = 0, o0 = 0, o1 = 0, o2 = 0, d0 = 0, d1 = 0, d2 = 0, t0 = 0, t1 = 0, t2 = 0, q2 = 0;
+            [[maybe_unused]] double g0 = 0, g1 = 0, g2 = 0;
 #pragma GCC unroll 3
             for (int a = 0; a < NPA; ++a) {
               const Node& nd = row[a];
               const double wx = X.w[a];
+              if constexpr (kHeat) {  // sum_i S_ip |v*_i - v_i|^2 (the transfer heat below)
+                const double *va = nd.velocity(), *vb = nd.updated_velocity();
+                const double e0 = vb[0] - va[0], e1 = vb[1] - va[1], e2 = vb[2] - va[2];
+                q2 += wx * (e0 * e0 + e1 * e1 + e2 * e2);
+              }
               if constexpr ((flags & (kVel | kPos)) != 0 || !kLfromVelocity) {
                 const double* vstar = nd.updated_velocity();
                 s0 += wx * vstar[0];
                 s1 += wx * vstar[1];
                 s2 += wx * vstar[2];
               }
-              if constexpr ((flags & kVel) != 0 || kLfromVelocity) {
+              if constexpr ((flags & kVel) != 0 || kLfromVelocity || kLfromMid) {
                 const double* vold = nd.velocity();
                 o0 += wx * vold[0];
                 o1 += wx * vold[1];
                 o2 += wx * vold[2];
               }
-              if constexpr ((flags & kGrad) != 0) {
+              if constexpr ((flags & kGrad) != 0 && kLfromMid) {
+                const double dx = X.dw[a];
+                const double *va = nd.velocity(), *vb = nd.updated_velocity();
+                d0 += dx * vb[0];
+                d1 += dx * vb[1];
+                d2 += dx * vb[2];
+                g0 += dx * va[0];
+                g1 += dx * va[1];
+                g2 += dx * va[2];
+              } else if constexpr ((flags & kGrad) != 0) {
                 const double dx = X.dw[a];
                 const double* vl = nd.*Node::slot(Lfrom);
                 d0 += dx * vl[0];
@@ -182,13 +201,20 @@ void Solver::g2p(double dt) {
               vs1 += wyz * s1;
               vs2 += wyz * s2;
             }
+            if constexpr (kHeat) dv2 += wyz * q2;
             if constexpr ((flags & kVel) != 0) {
               vo0 += wyz * o0;
               vo1 += wyz * o1;
               vo2 += wyz * o2;
             }
             if constexpr ((flags & kGrad) != 0) {
-              if constexpr (kLfromVelocity) {
+              if constexpr (kLfromMid) {
+                t0 = s0; t1 = s1; t2 = s2;
+                const double dyo = Y.dw[bb] * Z.w[cc], ydo = Y.w[bb] * Z.dw[cc];
+                M00 += wyz * g0; M01 += dyo * o0; M02 += ydo * o0;
+                M10 += wyz * g1; M11 += dyo * o1; M12 += ydo * o1;
+                M20 += wyz * g2; M21 += dyo * o2; M22 += ydo * o2;
+              } else if constexpr (kLfromVelocity) {
                 t0 = o0; t1 = o1; t2 = o2;
               } else {
                 t0 = s0; t1 = s1; t2 = s2;
@@ -201,7 +227,19 @@ void Solver::g2p(double dt) {
             }
           }
         }
-        if constexpr ((flags & kVel) != 0) flip_blend(vp, alpha, vs0, vs1, vs2, vo0, vo1, vo2);
+        if constexpr (kHeat) {
+          // Kinetic-energy fix-up of the transfer (DeBar 1974; energy_budget.hpp): the part of the
+          // grid's kinetic-energy change that the particle velocities cannot hold becomes heat.
+          const double e0 = vs0 - vo0, e1 = vs1 - vo1, e2 = vs2 - vo2;
+          const double w0 = vp[0] + e0, w1 = vp[1] + e1, w2 = vp[2] + e2;  // the FLIP velocity
+          flip_blend(vp, alpha, vs0, vs1, vs2, vo0, vo1, vo2);
+          const double heat = 0.5 * (dv2 - (e0 * e0 + e1 * e1 + e2 * e2)) +
+                              0.5 * (w0 * w0 + w1 * w1 + w2 * w2 - vp[0] * vp[0] - vp[1] * vp[1] - vp[2] * vp[2]);
+          ps_.energy[p] += heat;
+          ps_.heat_transfer[p] += heat;
+        } else if constexpr ((flags & kVel) != 0) {
+          flip_blend(vp, alpha, vs0, vs1, vs2, vo0, vo1, vo2);
+        }
         if constexpr ((flags & kPos) != 0) {
           xp[0] += dt * vs0;
           xp[1] += dt * vs1;
@@ -232,11 +270,25 @@ void Solver::g2p(double dt) {
               chunk_msg_[c] = os.str();
             }
           }
+          if constexpr (kLfromMid) {
+            // power of the grid force V_n (sigma_n - q_n I) : L(v_mid) as specific energy increments:
+            // total, its deviatoric part, the artificial-viscosity part
+            const double lm[9] = {0.5 * (L00 + M00), 0.5 * (L01 + M01), 0.5 * (L02 + M02),
+                                  0.5 * (L10 + M10), 0.5 * (L11 + M11), 0.5 * (L12 + M12),
+                                  0.5 * (L20 + M20), 0.5 * (L21 + M21), 0.5 * (L22 + M22)};
+            const double* sg = ps_.stress.data() + 6 * p;
+            const double trm = lm[0] + lm[4] + lm[8], pw = stress_power(sg, lm);
+            const double qn = ps_.q.empty() ? 0.0 : ps_.q[p], f = dt * ps_.volume[p] / ps_.mass[p];
+            double* ec = econs.data() + 3 * (p - ch.begin);
+            ec[0] = f * (pw - qn * trm);
+            ec[1] = f * (pw - (sg[0] + sg[1] + sg[2]) / 3.0 * trm);
+            ec[2] = -f * qn * trm;
+          }
           ps_.volume[p] = ps_.volume0[p] * J;
         }
       }
       chunk_fail_[c] += fails;
-      if ((flags & kGrad) != 0 && fails == 0) run_material_chunk(c, dt, Lb.data(), wpre.data(), ws.data(), bs.data());
+      if ((flags & kGrad) != 0 && fails == 0) run_material_chunk(c, dt, Lb.data(), wpre.data(), ws.data(), bs.data(), kLfromMid ? econs.data() : nullptr);
     }
   }
   std::size_t total = 0, first = nch;
@@ -358,6 +410,7 @@ void Solver::musl_remap() {
   template void Solver::g2p<NPA, kPos | kGrad, GridSlot::velocity>(double);                  \
   template void Solver::g2p<NPA, kGrad, GridSlot::velocity>(double);                         \
   template void Solver::g2p<NPA, kVel | kPos, GridSlot::updated_velocity>(double);           \
+  template void Solver::g2p<NPA, kVel | kPos | kGrad, GridSlot::midpoint>(double);           \
   template void Solver::musl_remap<NPA>();
 MPM_TRANSFER_INSTANTIATE(2)
 MPM_TRANSFER_INSTANTIATE(3)

@@ -32,6 +32,14 @@ class TongeRamesh final : public Material {
   }
   double density() const override { return p_.density; }
   double reference_wave_speed() const override { return tr::wave_speed(p_, 1.0, 1.0, 0.0); }
+  /// Energy budget: isochoric neo-Hookean energy (G(D)/2)(tr be - 3) = (3/2) G(D) (I_el - 1) and the
+  /// granular + compaction dissipation, both per reference volume, times V0.
+  void stored_energies(const MaterialBatch& b, double* elastic, double* dissipated) const override {
+    for (std::size_t k = 0; k < b.n; ++k) {
+      elastic[k] = 1.5 * tr::damaged_shear(p_, d_, b.state[fD][k]) * (b.state[fIel][k] - 1.0) * b.volume0[k];
+      dissipated[k] = b.state[fGPE][k] * b.volume0[k];
+    }
+  }
 
   void initialize(const MaterialBatch& b) const override {
     const int nb = p_.total_bins();

@@ -7,6 +7,7 @@ import sys
 from h5io import h5py  # pipelines/lib
 from .cutaway import impact_frame
 from .discover import discover
+from .energy import energy_section
 from .figures import figures_section
 from .files import write_text
 from .inputs import load_json, scene_bodies
@@ -43,6 +44,7 @@ def build_report(run, out, title):
     md += sections.inputs_section(energy, summary, bodies)
     md += sections.outcome_section(summary)
     md += sections.comparison_section(energy, summary, audit)
+    md += energy_section(run.mpm_series)
     md += sections.audit_section(run, audit)
     md += sections.timings_section(run)
     md += figures_section(run, summary, frame, out, notes)

@@ -18,6 +18,7 @@ class Run:
         self.scenes = []       # paths
         self.notes = []
         self.failed_states = []
+        self.mpm_series = None  # mpm-frag <prefix>_series.csv (energy budget)
 
 
 def classify_h5(path, run):
@@ -75,6 +76,13 @@ def discover(run_dir, out_dir, args):
                     pass
             elif name in ("timings.csv", "times.csv") or name.endswith(".time"):
                 run.timings.append(p)
+            elif name.endswith("_series.csv") and run.mpm_series is None:
+                try:
+                    with open(p) as f:
+                        if "internal_J" in f.readline():
+                            run.mpm_series = p
+                except OSError:
+                    pass
             elif name.endswith(".toml"):
                 run.scenes.append(p)
     # explicit options win
