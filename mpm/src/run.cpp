@@ -114,6 +114,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
   if (ck) {
     solver.resume(std::move(ck->solver));
     drv = std::move(ck->driver);
+    if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
     spdlog::info("restarted from {} at step {} (t = {:.6g} s)", restart, solver.step_count(), solver.time());
   } else {
     solver.initialize();
@@ -222,10 +223,12 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
       series.write(solver.step_count(), solver.time(), dt, d);
       progress.update(solver.step_count(), solver.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
     }
-    if (at_snap && !at_end) {
-      sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
-      write_outflow();
-      drv.next_snapshot += rc.snapshot_interval;
+    if (at_snap) {
+      if (!at_end) {  // the final snapshot follows the loop
+        sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+        write_outflow();
+      }
+      drv.next_snapshot += rc.snapshot_interval;  // also at the end: a continuation to a later end
     }
     if (const int sig = stop.pending()) {
       checkpoint();
