@@ -18,6 +18,7 @@
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
 #include "mpm/checkpoint.hpp"
+#include "mpm/memory_bounds.hpp"
 #include "mpm/output.hpp"
 #include "mpm/scene_setup.hpp"
 
@@ -51,6 +52,7 @@ const std::vector<std::string> kRestartFree = {"time.end",           "time.max_s
 }  // namespace
 
 RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, const std::string& restart) {
+  check_memory(scene);  // exit 2 naming the keys, before the grid or the particles are allocated
   Setup st = build_setup(scene);
   // Identity of this run, recorded in its checkpoints: --restart refuses another run's.
   const common::RunIdentity ident = common::run_identity(scene, kRestartFree, {});
