@@ -78,52 +78,8 @@ void expect_same_run(const std::string& ref, const std::string& out) {
   EXPECT_EQ(slurp(out + "/ck_series.csv"), slurp(ref + "/ck_series.csv"));
 }
 
-std::string scene_file(const testutil::TempDir& d) {
-  const std::string p = d.file("ck.toml");
-  std::ofstream(p) << R"([grid]
-domain_min = [0.0, 0.0, 0.0]
-domain_max = [0.2, 0.1, 0.1]
-cell_size = 0.01
-outflow = "remove"
-[solver]
-artificial_viscosity.enabled = true
-[time]
-end = 2e-4
-[output]
-prefix = "ck"
-snapshot_interval = 2.5e-5
-series_every = 7
-progress_interval = 100.0
-[[material]]
-name = "rock"
-model = "tonge_ramesh"
-density = 2700.0
-[[material]]
-name = "soft"
-model = "elastic"
-density = 1000.0
-bulk_modulus = 1e8
-shear_modulus = 1e7
-[[body]]
-material = "rock"
-shape = "sphere"
-center = [0.07, 0.05, 0.05]
-radius = 0.03
-[[body]]
-material = "soft"
-shape = "sphere"
-center = [0.13, 0.05, 0.05]
-radius = 0.012
-velocity = [-300.0, 0.0, 0.0]
-[[body]]
-material = "soft"
-shape = "sphere"
-center = [0.17, 0.05, 0.05]
-radius = 0.008
-velocity = [0.0, 0.0, 400.0]
-)";
-  return p;
-}
+/// The scene (tests/common/data/tiny_impact.toml); the tests set output.directory.
+std::string scene_file(const testutil::TempDir&) { return std::string(SUITE_SOURCE_DIR) + "/tests/common/data/tiny_impact.toml"; }
 
 class MpmRestart : public ::testing::Test {
  protected:
