@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <system_error>
 
 #include "common/status.hpp"
@@ -84,15 +85,32 @@ void AtomicPath::commit() {
   committed_ = true;
 }
 
-void write_text_atomic(const std::string& path, const std::string& text) {
-  AtomicPath out(path);
+namespace {
+// `text` into out's temporary file, with checked writes (IoError naming the final path).
+void write_temp(const AtomicPath& out, const std::string& text) {
+  const std::string& path = out.final_path();
   std::FILE* f = std::fopen(out.temp_path().c_str(), "wb");
   if (!f) throw IoError(path + ": cannot create: " + std::strerror(errno));
   const std::size_t n = std::fwrite(text.data(), 1, text.size(), f);
   const bool ok = (n == text.size()) && std::fflush(f) == 0;
   const int err = errno;
   if (std::fclose(f) != 0 || !ok) throw IoError(path + ": write failed: " + std::strerror(err));
+}
+}  // namespace
+
+void write_text_atomic(const std::string& path, const std::string& text) {
+  AtomicPath out(path);
+  write_temp(out, text);
   out.commit();
+}
+
+void write_text_set_atomic(const std::vector<std::pair<std::string, std::string>>& files) {
+  std::vector<std::unique_ptr<AtomicPath>> outs;
+  for (const auto& [path, text] : files) {
+    outs.push_back(std::make_unique<AtomicPath>(path));
+    write_temp(*outs.back(), text);
+  }
+  for (auto& o : outs) o->commit();  // renames only: no write left to fail
 }
 
 PartialFile::PartialFile(std::string final_path)

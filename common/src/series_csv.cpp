@@ -75,13 +75,15 @@ SeriesFile::SeriesFile(const std::string& path, SeriesFormat f, std::optional<st
     : SeriesFile(path, f, Initial{continue_at ? continuation(path, f, *continue_at) : f.header()}) {}
 
 SeriesFile::SeriesFile(const std::string& path, SeriesFormat f, Initial initial)
-    : f_(std::move(f)), file_(path) {
-  file_.stream() << initial.text;
+    : f_(std::move(f)), file_(path), text_(std::move(initial.text)) {
+  file_.stream() << text_;
   file_.flush();
 }
 
 void SeriesFile::write(const SeriesRow& r) {
-  file_.stream() << r.line();
+  const std::string line = r.line();
+  text_ += line;
+  file_.stream() << line;
   file_.flush();
 }
 

@@ -84,27 +84,34 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
   return s;
 }
 
-SeriesWriter::SeriesWriter(const std::string& path)
-    : file_(path, common::SeriesFormat({{"step", ""},
-                                        {"time_s", "s"},
-                                        {"dt_s", "s"},
-                                        {"mass_kg", "kg"},
-                                        {"px_kgm_s", "kg m/s"},
-                                        {"py_kgm_s", "kg m/s"},
-                                        {"pz_kgm_s", "kg m/s"},
-                                        {"Lx_kgm2_s", "kg m^2/s"},
-                                        {"Ly_kgm2_s", "kg m^2/s"},
-                                        {"Lz_kgm2_s", "kg m^2/s"},
-                                        {"kinetic_J", "J"},
-                                        {"internal_J", "J"},
-                                        {"total_J", "J"},
-                                        {"eos_J", "J"},
-                                        {"elastic_J", "J"},
-                                        {"plastic_J", "J"},
-                                        {"damage_J", "J"},
-                                        {"shock_heat_J", "J"},
-                                        {"transfer_heat_J", "J"}},
-                                       {.precision = 12})) {}
+namespace {
+common::SeriesFormat series_format() {
+  return common::SeriesFormat({{"step", ""},
+                               {"time_s", "s"},
+                               {"dt_s", "s"},
+                               {"mass_kg", "kg"},
+                               {"px_kgm_s", "kg m/s"},
+                               {"py_kgm_s", "kg m/s"},
+                               {"pz_kgm_s", "kg m/s"},
+                               {"Lx_kgm2_s", "kg m^2/s"},
+                               {"Ly_kgm2_s", "kg m^2/s"},
+                               {"Lz_kgm2_s", "kg m^2/s"},
+                               {"kinetic_J", "J"},
+                               {"internal_J", "J"},
+                               {"total_J", "J"},
+                               {"eos_J", "J"},
+                               {"elastic_J", "J"},
+                               {"plastic_J", "J"},
+                               {"damage_J", "J"},
+                               {"shock_heat_J", "J"},
+                               {"transfer_heat_J", "J"}},
+                              {.precision = 12});
+}
+}  // namespace
+
+SeriesWriter::SeriesWriter(const std::string& path, std::optional<std::string> continued)
+    : file_(continued ? common::SeriesFile(path, series_format(), common::SeriesFile::Initial{std::move(*continued)})
+                      : common::SeriesFile(path, series_format())) {}
 
 void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d) {
   common::SeriesRow row = file_.row();

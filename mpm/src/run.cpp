@@ -1,5 +1,6 @@
 /// @file run.cpp
-/// mpm-frag time loop (no physics here; see solver.hpp).
+/// mpm-frag time loop (no physics here; see solver.hpp): snapshots, series, progress, the last
+/// good state on failure, checkpoints (periodic, at the end and on SIGTERM/SIGINT) and --restart.
 #include "mpm/run.hpp"
 
 #include <omp.h>
@@ -8,11 +9,16 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "common/finite.hpp"
-#include "common/run_dir.hpp"
 #include "common/log.hpp"
+#include "common/run_dir.hpp"
+#include "common/run_identity.hpp"
 #include "common/status.hpp"
+#include "common/stop_signal.hpp"
+#include "mpm/checkpoint.hpp"
+#include "mpm/memory_bounds.hpp"
 #include "mpm/output.hpp"
 #include "mpm/scene_setup.hpp"
 
@@ -25,21 +31,67 @@ std::string snap_name(const RunConfig& r, const std::string& tag, std::int64_t s
   return (std::filesystem::path(r.out_dir) / (r.prefix + buf)).string();
 }
 
+/// The step of a snapshot file `<prefix>_<digits>.h5` / `.xmf`, or -1.
+std::int64_t snap_step(const std::string& prefix, const std::string& n) {
+  const std::string p = prefix + "_";
+  if (n.rfind(p, 0) != 0) return -1;
+  const std::size_t dot = n.rfind('.');
+  if (dot == std::string::npos || dot == p.size() || (n.substr(dot) != ".h5" && n.substr(dot) != ".xmf")) return -1;
+  const std::string digits = n.substr(p.size(), dot - p.size());
+  if (digits.size() > 15 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
+  return std::stoll(digits);
+}
+
+/// Scene keys a restart may change (they do not alter the computed states): the run identity
+/// leaves them out. output.snapshot_interval stays in: snapshot times cut the time steps.
+const std::vector<std::string> kRestartFree = {"time.end",           "time.max_steps",         "output.directory",
+                                               "output.series_every", "output.progress_interval",
+                                               "output.checkpoint_every", "output.checkpoint_wall", "run.threads",
+                                               "run.backup_every"};
+
 }  // namespace
 
-RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
+RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, const std::string& restart) {
+  check_memory(scene);  // exit 2 naming the keys, before the grid or the particles are allocated
   Setup st = build_setup(scene);
+  // Identity of this run, recorded in its checkpoints: --restart refuses another run's.
+  const common::RunIdentity ident = common::run_identity(scene, kRestartFree, {});
   // The run locks output.directory and writes into a staging directory, published into it
   // when the run completes (common/run_dir.hpp): an interrupted or failed run leaves the
-  // previous run's files as they were. rc.out_dir is the staging directory below.
+  // previous run's files as they were. rc.out_dir is the staging directory below. A restart
+  // continues in the staging directory of the interrupted run whose checkpoint it reads.
   const std::string prefix = st.run.prefix + "_";
-  common::RunDirectory rd(st.run.out_dir, "mpm-frag", [&](const std::string& n) {
-    return n.rfind(prefix, 0) == 0 && (n.ends_with(".h5") || n.ends_with(".xmf") || n.ends_with(".csv") ||
-                                       n.ends_with(".partial"));
-  });
+  common::RunDirectory rd(
+      st.run.out_dir, "mpm-frag",
+      [&](const std::string& n) {
+        return n.rfind(prefix, 0) == 0 && (n.ends_with(".h5") || n.ends_with(".xmf") || n.ends_with(".csv") ||
+                                           n.ends_with(".partial"));
+      },
+      restart.empty() ? std::string() : common::RunDirectory::staging_of(st.run.out_dir, restart));
   RunConfig rc = st.run;
   rc.out_dir = rd.staging();
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
+  const std::string ckpt_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_checkpoint.h5")).string();
+
+  std::optional<Checkpoint> ck;
+  if (!restart.empty()) {
+    ck = read_checkpoint(restart);
+    const common::RunIdentity theirs = common::RunIdentity::parse(ck->identity);
+    const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
+    if (!diff.empty())
+      throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
+                               ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
+    apply_materials(*ck, st.materials, restart);
+    st.particles = std::move(ck->particles);
+    if (common::RunDirectory::staging_of(st.run.out_dir, restart).empty()) {
+      // continuing a published run: its snapshots up to the checkpoint become part of this one
+      for (const auto& e : std::filesystem::directory_iterator(st.run.out_dir)) {
+        const std::string n = e.path().filename().string();
+        const std::int64_t s = snap_step(rc.prefix, n);
+        if (s >= 0 && s <= ck->solver.step) rd.carry(n);
+      }
+    }
+  }
 
   const std::size_t n = st.particles.size();
   log_bodies(st.bodies);
@@ -61,9 +113,20 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
                  m.end - m.begin, m.model->reference_wave_speed(), m.state.size());
 
   const auto t0 = std::chrono::steady_clock::now();
-  solver.initialize();
-  SeriesWriter series((std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string());
-  sum.series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  DriverState drv;
+  if (ck) {
+    solver.resume(std::move(ck->solver));
+    drv = std::move(ck->driver);
+    if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
+    spdlog::info("restarted from {} at step {} (t = {:.6g} s)", restart, solver.step_count(), solver.time());
+  } else {
+    solver.initialize();
+  }
+  const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
+  SeriesWriter series(series_path, ck ? std::optional<std::string>(std::move(drv.series)) : std::nullopt);
+  ck.reset();
+  sum.series_path = series_path;
   auto write_snap = [&](const ParticleSet& ps, const std::vector<MaterialSlot>& mats, double t, std::int64_t step,
                         const std::string& tag) {
     const std::string path = snap_name(rc, tag, step);
@@ -88,7 +151,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   };
   // Particles removed at the grid edge (grid.outflow = "remove"): all of them so far, with
   // ballistic positions at the current time, in <prefix>_outflow.h5 next to each snapshot.
-  std::size_t reported_out = 0;
+  std::size_t reported_out = solver.outflow_count();
   auto write_outflow = [&]() {
     if (solver.outflow_count() == 0) return;
     const std::string path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_outflow.h5")).string();
@@ -100,18 +163,29 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
       reported_out = solver.outflow_count();
     }
   };
-  sum.initial = solver.diagnostics();
-  series.write(0, 0.0, 0.0, sum.initial);
-  sum.last_snapshot = write_snap(solver.particles(), solver.materials(), 0.0, 0, "");
-  const double E0 = sum.initial.total();
-  double next_snap = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
-  common::Progress progress("mpm-frag", 0.0, rc.t_end, rc.progress_interval);
-  {
-    const double dt0 = solver.stable_dt();
-    spdlog::info("first dt = {:.4g} s ({} limit)", dt0, solver.dt_capped() ? "time.dt_max" : "CFL");
-    sum.first_dt = dt0;
+  auto checkpoint = [&]() {
+    drv.series = series.text();
+    write_checkpoint(ckpt_path, solver, drv, prov, ident.text());
+    drv.series.clear();
+    spdlog::info("checkpoint at step {} -> {}", solver.step_count(), ckpt_path);
+  };
+  if (restart.empty()) {
+    drv.initial = solver.diagnostics();
+    series.write(0, 0.0, 0.0, drv.initial);
+    sum.last_snapshot = write_snap(solver.particles(), solver.materials(), 0.0, 0, "");
+    drv.next_snapshot = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
+    drv.first_dt = solver.stable_dt();
+    drv.min_dt = 1e300;
+    spdlog::info("first dt = {:.4g} s ({} limit)", drv.first_dt, solver.dt_capped() ? "time.dt_max" : "CFL");
   }
-  sum.min_dt = 1e300;
+  sum.initial = drv.initial;
+  sum.first_dt = drv.first_dt;
+  const double E0 = sum.initial.total();
+  common::Progress progress("mpm-frag", solver.time(), rc.t_end, rc.progress_interval);
+  const std::int64_t ckpt_every = scene.integer("output.checkpoint_every");
+  const double ckpt_wall = scene.real("output.checkpoint_wall");
+  double last_ckpt_wall = 0;
+  const common::StopSignals stop;  // SIGTERM/SIGINT: checkpoint after the step, exit 128 + signal
   bool warned_cap = false;
   double dt = 0;
   while (solver.time() < rc.t_end * (1 - 1e-12)) {
@@ -125,7 +199,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
       spdlog::warn("time.dt_max = {:.3g} s exceeds the stable (CFL) step {:.3g} s; using the CFL step", st.solver.dt_max, dt);
       warned_cap = true;
     }
-    const double target = std::min(next_snap, rc.t_end);
+    const double target = std::min(drv.next_snapshot, rc.t_end);
     if (solver.time() + dt > target) dt = target - solver.time();
     if (!(dt > 0)) dt = solver.stable_dt();
     try {
@@ -144,24 +218,44 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
       spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
       throw common::NumericalError(std::string(f.what()), path);
     }
-    sum.min_dt = std::min(sum.min_dt, dt);
-    sum.max_dt = std::max(sum.max_dt, dt);
-    const bool at_snap = solver.time() >= next_snap * (1 - 1e-12);
+    drv.min_dt = std::min(drv.min_dt, dt);
+    drv.max_dt = std::max(drv.max_dt, dt);
+    const bool at_snap = solver.time() >= drv.next_snapshot * (1 - 1e-12);
     const bool at_end = solver.time() >= rc.t_end * (1 - 1e-12);
     if (solver.step_count() % rc.series_every == 0 || at_end || at_snap) {
       const Diagnostics d = solver.diagnostics();
       series.write(solver.step_count(), solver.time(), dt, d);
       progress.update(solver.step_count(), solver.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
     }
-    if (at_snap && !at_end) {
-      sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+    if (at_snap) {
+      if (!at_end) {  // the final snapshot follows the loop
+        sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
+        write_outflow();
+      }
+      drv.next_snapshot += rc.snapshot_interval;  // also at the end: a continuation to a later end
+    }
+    if (const int sig = stop.pending()) {
+      checkpoint();
       write_outflow();
-      next_snap += rc.snapshot_interval;
+      series.commit();
+      spdlog::warn("interrupted by signal {} at step {}; continue with --restart {}", sig, solver.step_count(), ckpt_path);
+      sum.signal = sig;
+      sum.steps = solver.step_count();
+      sum.time = solver.time();
+      return sum;
+    }
+    if ((ckpt_every > 0 && solver.step_count() % ckpt_every == 0) ||
+        (ckpt_wall > 0 && wall() - last_ckpt_wall > ckpt_wall)) {
+      checkpoint();
+      last_ckpt_wall = wall();
     }
   }
+  sum.min_dt = drv.min_dt;
+  sum.max_dt = drv.max_dt;
   sum.final = solver.diagnostics();
   sum.last_snapshot = write_snap(solver.particles(), solver.materials(), solver.time(), solver.step_count(), "");
   write_outflow();
+  checkpoint();
   series.commit();
   rd.publish();
   auto published = [&](const std::string& p) {
@@ -172,7 +266,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov) {
   spdlog::info("run complete: outputs published in {}", st.run.out_dir);
   sum.steps = solver.step_count();
   sum.time = solver.time();
-  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sum.wall_s = wall();
   progress.update(sum.steps, sum.time, dt, E0 != 0 ? (sum.final.total() - E0) / std::fabs(E0) : 0.0, true);
   const double us = sum.wall_s * 1e6 / (static_cast<double>(n) * std::max<std::int64_t>(1, sum.steps));
   spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s wall ({:.3f} us per particle-step, {} threads)", sum.steps,

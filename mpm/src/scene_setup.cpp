@@ -163,6 +163,9 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_real("output.snapshot_interval", 0.0, "s", 0.0, kBig, "time between particle snapshots (0: initial and final only)");
   s.add_int("output.series_every", 10, 1, 1000000000, "steps between rows of the time-series CSV");
   s.add_real("output.progress_interval", 10.0, "s", 0.0, kBig, "wall-clock seconds between progress lines");
+  s.add_real("output.checkpoint_wall", 600.0, "s", 0.0, kBig,
+             "checkpoint every this many wall-clock seconds (0 = only at the end / on signals)");
+  s.add_int("output.checkpoint_every", 0, 0, 1LL << 40, "checkpoint every N steps (0 = off)");
 
   s.add_int("run.seed", 0, 0, std::numeric_limits<long long>::max(), "random seed (keyed per particle id)");
   s.add_int("run.backup_every", 20, 1, 1000000000, "steps between copies of the last good state (saved on failure)");

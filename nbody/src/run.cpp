@@ -5,8 +5,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <atomic>
-#include <csignal>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -18,14 +16,12 @@
 #include "common/log.hpp"
 #include "common/series_csv.hpp"
 #include "common/status.hpp"
+#include "common/stop_signal.hpp"
 #include "ssdem/io.hpp"
 #include "ssdem/scene_setup.hpp"
 
 namespace ssdem {
 namespace {
-std::atomic<int> g_signal{0};
-extern "C" void on_signal(int sig) { g_signal.store(sig); }
-
 // Files a run of ssdem-grav writes into its output directory (for directories written before
 // run manifests existed: the previous run's files a completed run removes).
 bool is_output(const std::string& n) {
@@ -193,16 +189,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   std::size_t next_time = 0;
   while (next_time < times.size() && times[next_time] < sim->time() - 1e-12) ++next_time;
 
-  g_signal.store(0);
-  auto old_term = std::signal(SIGTERM, on_signal);
-  auto old_int = std::signal(SIGINT, on_signal);
-  struct Restore {
-    decltype(old_term) t, i;
-    ~Restore() {
-      std::signal(SIGTERM, t);
-      std::signal(SIGINT, i);
-    }
-  } restore{old_term, old_int};
+  const common::StopSignals stop;  // SIGTERM/SIGINT: checkpoint after the step, exit 128 + signal
 
   if (restart.empty()) {
     write_row();
@@ -226,7 +213,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         ++next_time;
       }
       if (snap || s >= n_end) write_snapshot(snap_name(dir, s), sim->spheres(), sim->time(), s, prov);
-      const int sig = g_signal.load();
+      const int sig = stop.pending();
       if (sig != 0) {
         checkpoint();
         series_file.commit();

@@ -6,12 +6,16 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
+#include <map>
 #include <sstream>
 #include <string>
 
 #include <unistd.h>
 
 #include "analysis/analyse_scene.hpp"
+#include "analysis/run_analysis.hpp"
+#include "common/status.hpp"
 #include "common/h5.hpp"
 #include "common/particle_file.hpp"
 #include "common/sphere_file.hpp"
@@ -205,4 +209,49 @@ TEST(AnalyseTool, ImpactTakenFromTheInitialMpmSnapshot) {
   r = run((dir / "s.h5").string() + " --mpm-initial " + (dir / "rest.h5").string() + " -o " + (dir / "c").string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.out.find("/particles/velocity"), std::string::npos) << r.out;
+}
+
+// The three outputs are one set: a rerun that fails while writing (a file-size limit standing for
+// a full disk) exits 4 and leaves the earlier set byte for byte, with no temporary file.
+TEST(AnalyseTool, OutputsAreReplacedAsASetOrNotAtAll) {
+  const fs::path dir = fs::temp_directory_path() / ("ssdem_analyse_set_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  common::write_sphere_set((dir / "late.h5").string(), snapshot(100.0), prov());
+  const std::string args = (dir / "late.h5").string() + " -o " + (dir / "an").string() +
+                           " --impactor-mass 1e9 --impactor-velocity '[0,0,-5000]' --parent-mass ";
+  ASSERT_EQ(run(args + "6.4e13").code, 0);
+  std::map<std::string, std::string> before;
+  for (const char* ext : {".json", ".timeseries.csv", ".damage.csv"}) before[ext] = slurp(dir / ("an" + std::string(ext)));
+  ASSERT_GT(before[".json"].size(), 4096u);  // the JSON is over the limit below
+  // another parent mass (other numbers), files limited to 4 KB (SIGXFSZ ignored: write fails)
+  const RunResult r = run("--version > /dev/null; trap '' XFSZ; ulimit -f 4; " + std::string(SSDEM_ANALYSE_EXE) + " " +
+                          args + "7e13");
+  EXPECT_EQ(r.code, 4) << r.out;
+  EXPECT_NE(r.out.find(": write failed: File too large"), std::string::npos) << r.out;
+  for (const auto& [ext, text] : before) EXPECT_EQ(slurp(dir / ("an" + ext)), text) << ext;
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename().string().rfind("an", 0) == 0;
+  EXPECT_EQ(files, 3u);  // no temporary left
+  fs::remove_all(dir);
+}
+
+// A NaN or Inf result is never written (the CSV would show an empty cell): exit 3 naming it.
+TEST(AnalyseTool, NonFiniteResultsAreRefusedNamingTheQuantity) {
+  analysis::AnalysisOutcome o;
+  o.parent_body_mass = 1.0;
+  analysis::SnapshotResult r;
+  r.file = "s.h5";
+  r.time = 5.0;
+  r.bound.bound_mass = std::numeric_limits<double>::infinity();
+  o.rows.push_back(r);
+  try {
+    analysis::check_outcome_finite(o, "out/an.json");
+    FAIL() << "expected NumericalError";
+  } catch (const common::NumericalError& e) {
+    EXPECT_NE(std::string(e.what()).find("out/an.json: s.h5 (t = 5.000000 s)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("bound_mass"), std::string::npos) << e.what();
+  }
+  o.rows[0].bound.bound_mass = 1.0;
+  EXPECT_NO_THROW(analysis::check_outcome_finite(o, "out/an.json"));
 }

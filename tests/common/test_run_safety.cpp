@@ -7,9 +7,13 @@
 ///     the keys that differ), leaving the directory as it was;
 ///  3. an output directory holds one complete run: a run killed (SIGKILL/SIGTERM) or failing
 ///     leaves the previous run's files byte for byte, its own output in <dir>/.staging-<pid>;
-///     a second run into a directory in use is refused with exit 2 naming the holder's pid.
+///     a second run into a directory in use is refused with exit 2 naming the holder's pid;
+///  4. a full disk under the staging directory (a tmpfs filled up, when the test runs as root; a
+///     file-size limit, always) ends mpm-frag and ssdem-grav with exit 4 and a message naming the
+///     staging directory, the previous complete run byte for byte.
 #include <gtest/gtest.h>
 #include <sys/prctl.h>
+#include <sys/statvfs.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -293,4 +297,63 @@ TEST(RunSafety, SecondRunIntoADirectoryInUseIsRefused) {
   }
   // once the holder is gone the directory is free again
   EXPECT_EQ(grav("--quiet --scene " + scene).rc, 0);
+}
+
+// ---- 4. disk full under the staging directory -----------------------------------------------
+
+namespace {
+/// Run `tool` once into `out` (complete), then again with `sets` after `fill` ran: exit 4, the
+/// first run kept byte for byte, the message names the staging directory.
+void expect_disk_full_keeps_previous_run(const std::string& exe, const std::string& scene, const std::string& out,
+                                         const std::string& sets, const std::function<std::string()>& fill) {
+  ASSERT_EQ(run(exe, "--quiet --scene " + scene).rc, 0);
+  const auto before = contents(out);
+  const std::string prefix = fill();
+  const Result r = run("true; " + prefix, std::string(exe) + " --scene " + scene + " " + sets);
+  EXPECT_EQ(r.rc, 4) << r.out;
+  EXPECT_NE(r.out.find("the run did not complete; " + out + " is unchanged and this run's partial output is in " + out +
+                       "/.staging-"),
+            std::string::npos)
+      << r.out;
+  EXPECT_EQ(contents(out), before);
+}
+}  // namespace
+
+TEST(RunSafety, FileSizeLimitDuringARunKeepsThePreviousRun) {
+  // RLIMIT_FSIZE (ulimit -f, in KB) makes a write fail like a full disk; SIGXFSZ ignored.
+  const auto limit = [] { return std::string("trap '' XFSZ; ulimit -f 8;"); };
+  testutil::TempDir d;
+  const std::string out_m = d.file("m"), out_g = d.file("g");
+  expect_disk_full_keeps_previous_run(MPM_FRAG_EXE, mpm_scene(d, out_m), out_m, "--set output.snapshot_interval=5e-5",
+                                      limit);
+  expect_disk_full_keeps_previous_run(SSDEM_GRAV_EXE, pile_scene(d, out_g), out_g,
+                                      "--set output.snapshot_interval=5.0 --set initial.sphere_radius=0.5", limit);
+}
+
+TEST(RunSafety, FullTmpfsDuringARunKeepsThePreviousRun) {
+  if (::geteuid() != 0) GTEST_SKIP() << "mounting a tmpfs needs root";
+  testutil::TempDir d;
+  const std::string mnt = d.file("mnt");
+  fs::create_directories(mnt);
+  if (std::system(("mount -t tmpfs -o size=4m tmpfs " + mnt + " 2>/dev/null").c_str()) != 0)
+    GTEST_SKIP() << "mount -t tmpfs refused (no CAP_SYS_ADMIN in this container?)";
+  struct Unmount {
+    std::string m;
+    ~Unmount() { (void)std::system(("umount " + m).c_str()); }
+  } unmount{mnt};
+  // fill the tmpfs up to 48 KB of free space after the first run
+  const std::string filler = mnt + "/filler";
+  auto fill = [&] {
+    struct statvfs v {};
+    ::statvfs(mnt.c_str(), &v);
+    const long long free_b = static_cast<long long>(v.f_bavail) * static_cast<long long>(v.f_frsize);
+    std::ofstream(filler, std::ios::binary | std::ios::app) << std::string(std::max(0LL, free_b - 48 * 1024), 'x');
+    return std::string();
+  };
+  const std::string out_m = mnt + "/m", out_g = mnt + "/g";
+  expect_disk_full_keeps_previous_run(MPM_FRAG_EXE, mpm_scene(d, out_m), out_m, "--set output.snapshot_interval=5e-5",
+                                      fill);
+  fs::remove(filler);
+  expect_disk_full_keeps_previous_run(SSDEM_GRAV_EXE, pile_scene(d, out_g), out_g,
+                                      "--set output.snapshot_interval=5.0 --set initial.sphere_radius=0.5", fill);
 }

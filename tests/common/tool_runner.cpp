@@ -32,7 +32,8 @@ ToolResult run_tool(const std::string& exe, const std::string& args, int timeout
   return r;
 }
 
-pid_t spawn_tool(const std::string& exe, const std::string& scene, const std::vector<std::string>& sets) {
+pid_t spawn_tool(const std::string& exe, const std::string& scene, const std::vector<std::string>& sets,
+                 const std::vector<std::string>& extra) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
@@ -43,6 +44,7 @@ pid_t spawn_tool(const std::string& exe, const std::string& scene, const std::ve
       args.push_back("--set");
       args.push_back(s);
     }
+    args.insert(args.end(), extra.begin(), extra.end());
     std::vector<char*> argv;
     for (auto& a : args) argv.push_back(a.data());
     argv.push_back(nullptr);

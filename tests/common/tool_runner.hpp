@@ -19,9 +19,10 @@ struct ToolResult {
 /// after that many seconds (a FIFO input must not block a test).
 ToolResult run_tool(const std::string& exe, const std::string& args, int timeout_s = 0);
 
-/// Start `exe --quiet --scene scene --set s...` in the background (one OpenMP thread, output
-/// discarded); it is killed if the test process dies.
-pid_t spawn_tool(const std::string& exe, const std::string& scene, const std::vector<std::string>& sets);
+/// Start `exe --quiet --scene scene --set s... extra...` in the background (one OpenMP thread,
+/// output discarded); it is killed if the test process dies.
+pid_t spawn_tool(const std::string& exe, const std::string& scene, const std::vector<std::string>& sets,
+                 const std::vector<std::string>& extra = {});
 
 /// Poll `ready()` every 5 ms for up to 60 s; whether it became true.
 bool wait_for(const std::function<bool()>& ready);

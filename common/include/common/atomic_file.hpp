@@ -4,6 +4,8 @@
 #pragma once
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace common {
 
@@ -37,6 +39,12 @@ void check_output_path(const std::string& path);
 
 /// Atomically replace `path` with `text`. Throws IoError.
 void write_text_atomic(const std::string& path, const std::string& text);
+
+/// Replace a set of files (path, text) as a whole: every text is written to its temporary file
+/// first; only when all succeeded are they renamed into place, in the given order (put the file
+/// whose presence marks a complete set last). A failed write (disk full) removes the temporaries
+/// and leaves every earlier file as it was. Throws IoError.
+void write_text_set_atomic(const std::vector<std::pair<std::string, std::string>>& files);
 
 /// A file that grows during a long run (a time-series CSV). Rows go to `<final>.partial` in the
 /// same directory; commit() renames it onto the final name, so the final name only ever holds

@@ -96,21 +96,27 @@ class SeriesFile {
   /// the step (the run never committed it: killed, I/O failure), else from `path`; rows cut
   /// short by a crash (fewer cells) are dropped. Throws IoError.
   SeriesFile(const std::string& path, SeriesFormat f, std::optional<std::int64_t> continue_at = std::nullopt);
+  /// The header and rows a run had written when it saved a checkpoint (text()).
+  struct Initial {
+    std::string text;  ///< header and continued rows
+  };
+  /// Creates `<path>.partial` holding `initial.text` (a restarted run that keeps its series in its
+  /// checkpoint: mpm-frag). Throws IoError.
+  SeriesFile(const std::string& path, SeriesFormat f, Initial initial);
 
   SeriesRow row() const { return SeriesRow(f_); }
   /// Append a row and flush. Throws IoError.
   void write(const SeriesRow& r);
+  /// Everything written so far (header and rows).
+  const std::string& text() const { return text_; }
   /// Rename the series onto `path`. Throws IoError.
   void commit() { file_.commit(); }
   const std::string& path() const { return file_.final_path(); }
 
  private:
-  struct Initial {
-    std::string text;  ///< header and continued rows
-  };
-  SeriesFile(const std::string& path, SeriesFormat f, Initial initial);
   SeriesFormat f_;
   PartialFile file_;
+  std::string text_;
 };
 
 }  // namespace common

@@ -2,6 +2,7 @@
 /// Particle snapshots (common::write_particle_snapshot, the file contract in particle_file.hpp)
 /// and the time-series CSV of mpm-frag.
 #pragma once
+#include <optional>
 #include <string>
 
 #include "common/atomic_file.hpp"
@@ -31,8 +32,11 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
 /// an earlier series (common::PartialFile).
 class SeriesWriter {
  public:
-  /// Creates `<path>.partial` and writes the header. Throws common::IoError.
-  explicit SeriesWriter(const std::string& path);
+  /// Creates `<path>.partial` and writes the header, or `continued` (the header and rows a
+  /// checkpoint kept: a restarted run). Throws common::IoError.
+  explicit SeriesWriter(const std::string& path, std::optional<std::string> continued = std::nullopt);
+  /// Header and rows written so far (kept in checkpoints).
+  const std::string& text() const { return file_.text(); }
   /// Append a row and flush.
   void write(std::int64_t step, double t, double dt, const Diagnostics& d);
   /// Rename the series into place under `path`. Throws common::IoError.

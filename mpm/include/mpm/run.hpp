@@ -1,6 +1,7 @@
 /// @file run.hpp
 /// The mpm-frag driver: scene -> solver -> time loop with snapshots, time series, progress,
-/// last-good-state backups and clean failure (common::NumericalError, exit code 3, state saved).
+/// last-good-state backups, clean failure (common::NumericalError, exit code 3, state saved),
+/// checkpoints and restart.
 #pragma once
 #include <cstdint>
 #include <string>
@@ -22,10 +23,13 @@ struct RunSummary {
   double first_dt = 0, min_dt = 0, max_dt = 0;
   std::string last_snapshot;
   std::string series_path;
+  int signal = 0;  ///< SIGTERM/SIGINT that stopped the run after a checkpoint (exit 128 + signal), or 0
 };
 
-/// Run the scene. Throws common::InputError (bad scene), common::IoError (outputs) or
+/// Run the scene, or continue the checkpoint `restart` (mpm/checkpoint.hpp; InputError if it is
+/// another run's). Throws common::InputError (bad scene), common::IoError (outputs) or
 /// common::NumericalError (after saving the last good state; `saved_state()` names the file).
-RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov);
+/// A SIGTERM/SIGINT ends the run after the current step and a checkpoint (RunSummary::signal).
+RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, const std::string& restart = {});
 
 }  // namespace mpmfrag

@@ -142,6 +142,22 @@ struct Backup {
   bool valid = false;
 };
 
+/// The solver's state outside its particles and material state arrays that later steps read.
+/// A checkpoint (mpm/checkpoint.hpp) saves it with them, and Solver::resume() (instead of
+/// initialize()) continues bit-identically. A Solver member that carries over from one step to
+/// the next (an accumulator, a running maximum) belongs here and in resume_state()/resume().
+struct SolverResume {
+  double time = 0;
+  std::int64_t step = 0;
+  double max_speed = 0;      ///< max (c + |v|) of the last update: the next stable_dt() [m/s]
+  double min_node_mass = 0;  ///< m_min, fixed at construction from that run's particles [kg]
+  ParticleSet outflow;       ///< the outflow record (core arrays at removal)
+  std::vector<double> outflow_time;         ///< removal times [s]
+  std::vector<common::Field> outflow_fields;  ///< output state fields of the removed particles
+  std::vector<double> outflow_init;         ///< initial value of each of those fields
+  Diagnostics outflow_totals;               ///< totals of the removed particles
+};
+
 class Solver {
  public:
   /// `materials[m]` holds the particles [begin, end) with ParticleSet::material == m; the state
@@ -159,6 +175,11 @@ class Solver {
   /// Copy the current state into the backup (cheap relative to a step when done every ~20 steps).
   void save_backup();
   const Backup& backup() const { return backup_; }
+  /// The carried state (SolverResume) of the current step.
+  SolverResume resume_state() const;
+  /// Continue a checkpointed run: the solver was constructed with the checkpoint's particles and
+  /// material state; `s` restores the rest. Call instead of initialize().
+  void resume(SolverResume s);
 
   double time() const { return time_; }
   std::int64_t step_count() const { return step_; }

@@ -484,9 +484,12 @@ void write_outputs(const AnalysisOutcome& o, const AnalyseConfig& cfg, const com
     std::filesystem::create_directories(parent, ec);
     if (ec) throw common::IoError("cannot create directory " + parent.string() + ": " + ec.message());
   }
-  common::write_text_atomic(out_path(cfg, ".timeseries.csv"), timeseries_csv(o));
-  common::write_text_atomic(out_path(cfg, ".damage.csv"), damage_csv(o));
-  common::write_text_atomic(out_path(cfg, ".json"), summary_json(o, cfg, prov));
+  check_outcome_finite(o, out_path(cfg, ".json"));
+  // the three files as a set: all written to temporaries, renamed only when all succeeded (the
+  // JSON last: its presence means the set is complete); a failure leaves the earlier set as it was
+  common::write_text_set_atomic({{out_path(cfg, ".timeseries.csv"), timeseries_csv(o)},
+                                 {out_path(cfg, ".damage.csv"), damage_csv(o)},
+                                 {out_path(cfg, ".json"), summary_json(o, cfg, prov)}});
   spdlog::info("wrote {}.json, {}.timeseries.csv, {}.damage.csv", cfg.prefix, cfg.prefix, cfg.prefix);
 }
 

@@ -71,8 +71,12 @@ AnalysisOutcome run_analysis(const AnalyseConfig& cfg);
 std::string timeseries_csv(const AnalysisOutcome& o);
 std::string damage_csv(const AnalysisOutcome& o);
 std::string summary_json(const AnalysisOutcome& o, const AnalyseConfig& cfg, const common::Provenance& prov);
-/// Write <prefix>.json, <prefix>.timeseries.csv, <prefix>.damage.csv atomically (CSV first,
-/// the JSON last, so the JSON's presence means the set is complete).
+/// Throws common::NumericalError (exit 3) naming `path`, the snapshot file and the quantity if a
+/// result about to be written is NaN or Inf (the CSV would show it as an empty cell).
+void check_outcome_finite(const AnalysisOutcome& o, const std::string& path);
+/// Check the outcome (check_outcome_finite), then write <prefix>.json, <prefix>.timeseries.csv and
+/// <prefix>.damage.csv as a set (common::write_text_set_atomic: all to temporaries, renamed only
+/// when all were written, the JSON last so that its presence means the set is complete).
 void write_outputs(const AnalysisOutcome& o, const AnalyseConfig& cfg, const common::Provenance& prov);
 
 }  // namespace analysis

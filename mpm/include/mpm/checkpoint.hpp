@@ -1,0 +1,66 @@
+/// @file checkpoint.hpp
+/// mpm-frag checkpoints: the complete state of a run after a completed step, from which
+/// `mpm-frag --restart <file>` continues bit-identically (same particles, same steps, same
+/// snapshots and series as an uninterrupted run, for any thread count).
+///
+/// A checkpoint is a particle snapshot of that state (the file contract of particle_file.hpp, so
+/// mpm2spheres reads it too) plus the group `/mpm_state` (common/FILE_FORMATS.md):
+///   attrs   format = "mpm-frag.checkpoint", format_version, step, time [s], max_speed [m/s],
+///           min_node_mass [kg], next_snapshot [s], first_dt, min_dt, max_dt [s], initial_totals and
+///           outflow_totals (11 numbers each: mass, momentum 3, angular momentum 3, kinetic,
+///           internal, removed count, removed mass), run_identity, run_identity_digest,
+///           series_bytes, material_count
+///   particles/<array>           every ParticleSet array by member name (ParticleSet::for_each_array,
+///                               so an array added there travels without a change here), raw values
+///   materials/<m>  attrs name, begin, end; one dataset per style state field (by field name)
+///   outflow/particles/<array>, outflow/removal_time, outflow/fields/<k> (attrs name, initial,
+///                               description): the outflow record (SolverResume)
+///   series                      the series CSV written so far (header and rows), bytes packed
+///                               8 per uint64 word (little-endian), `series_bytes` long
+#pragma once
+#include <string>
+#include <vector>
+
+#include "common/provenance.hpp"
+#include "mpm/solver.hpp"
+
+namespace mpmfrag {
+
+/// The driver's loop state after a step (run.cpp).
+struct DriverState {
+  double next_snapshot = 0;            ///< simulated time of the next snapshot [s]
+  double first_dt = 0, min_dt = 0, max_dt = 0;  ///< for the run summary [s]
+  Diagnostics initial;                 ///< totals at t = 0 (the energy reference)
+  std::string series;                  ///< the series CSV written so far
+};
+
+/// One material of a checkpoint: its scene name, particle range and state arrays by field name
+/// (the style and model come from the scene: apply_materials).
+struct MaterialState {
+  std::string name;
+  std::size_t begin = 0, end = 0;
+  std::vector<std::pair<std::string, std::vector<double>>> fields;
+};
+
+/// A checkpoint read back.
+struct Checkpoint {
+  ParticleSet particles;
+  std::vector<MaterialState> materials;
+  SolverResume solver;
+  DriverState driver;
+  std::string identity;  ///< run identity text (common::RunIdentity)
+};
+
+/// Write the checkpoint of `solver`'s current state atomically (temporary + rename). Throws
+/// IoError; NumericalError if a particle value is not finite (never written).
+void write_checkpoint(const std::string& path, const Solver& solver, const DriverState& driver,
+                      const common::Provenance& prov, const std::string& identity);
+
+/// Read and validate a checkpoint. Throws InputError naming the file (and dataset).
+Checkpoint read_checkpoint(const std::string& path);
+
+/// Give the scene's materials (`mats`, from build_setup) the checkpoint's particle ranges and
+/// state arrays. Throws InputError naming `path` if names, order or state fields differ.
+void apply_materials(const Checkpoint& ck, std::vector<MaterialSlot>& mats, const std::string& path);
+
+}  // namespace mpmfrag

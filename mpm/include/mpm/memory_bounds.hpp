@@ -1,0 +1,40 @@
+/// @file memory_bounds.hpp
+/// The memory a scene will need, estimated from its keys before anything is allocated, so that a
+/// grid or a body too large for the machine ends in exit 2 naming the keys and the computed size
+/// (not std::bad_alloc, or the kernel's out-of-memory killer once the zero-filled grid is touched).
+///
+///   grid:      nodes = prod_d (ceil((max_d - min_d) / h) + 1 + 2 ghost), 88 bytes each
+///              (the 64-byte node record plus MUSL's re-projected momentum)
+///   particles: per body, volume * (ppc / h)^3 (sphere 4/3 pi r^3, box, cylinder pi r^2 L), each
+///              2 x (the ParticleSet arrays + its material's state fields) + 96 bytes (the
+///              last-good-state copy, binning keys, the generator's record)
+/// The total must not exceed the memory available: physical memory, or RLIMIT_AS / the cgroup's
+/// memory.max when smaller. Particle counts must stay below 2^32 (32-bit particle indices).
+#pragma once
+#include <cstddef>
+
+#include "common/schema.hpp"
+#include "mpm/material.hpp"
+
+namespace mpmfrag {
+
+struct MemoryEstimate {
+  double grid_nodes = 0;
+  double grid_bytes = 0;
+  double particles = 0;
+  double particle_bytes = 0;
+  double total() const { return grid_bytes + particle_bytes; }
+};
+
+/// Estimate from a validated scene (keys as in mpm_schema()).
+MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& reg = builtin_materials());
+
+/// Bytes this process may use: min(physical memory, RLIMIT_AS, cgroup memory.max).
+double available_memory();
+
+/// Throws common::InputError (exit 2) naming grid.cell_size, grid.domain_min/max and the sizes
+/// when the estimate exceeds `available`, or the particle estimate reaches 2^32.
+void check_memory(const common::Scene& sc, double available = available_memory(),
+                  const MaterialRegistry& reg = builtin_materials());
+
+}  // namespace mpmfrag

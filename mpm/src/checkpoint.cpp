@@ -1,0 +1,283 @@
+/// @file checkpoint.cpp
+/// mpm-frag checkpoint files (layout and contract in checkpoint.hpp).
+#include "mpm/checkpoint.hpp"
+
+#include <type_traits>
+
+#include "common/finite.hpp"
+#include "common/h5.hpp"
+#include "common/particle_file.hpp"
+#include "common/run_identity.hpp"
+#include "common/status.hpp"
+#include "mpm/output.hpp"
+
+namespace mpmfrag {
+namespace {
+
+namespace h5 = common::h5;
+constexpr const char* kFormat = "mpm-frag.checkpoint";
+constexpr std::int64_t kVersion = 1;
+constexpr std::size_t kTotals = 16;
+
+std::vector<double> pack_totals(const Diagnostics& d) {
+  return {d.mass,
+          d.momentum[0],
+          d.momentum[1],
+          d.momentum[2],
+          d.angular_momentum[0],
+          d.angular_momentum[1],
+          d.angular_momentum[2],
+          d.kinetic,
+          d.internal,
+          static_cast<double>(d.removed),
+          d.removed_mass,
+          d.work_dev,
+          d.heat_shock,
+          d.heat_transfer,
+          d.elastic,
+          d.dissipated};
+}
+Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file, const std::string& name) {
+  if (v.size() != kTotals) throw common::InputError(file, "/mpm_state", name + " must hold " + std::to_string(kTotals) + " numbers");
+  Diagnostics d;
+  d.mass = v[0];
+  d.momentum = Eigen::Vector3d(v[1], v[2], v[3]);
+  d.angular_momentum = Eigen::Vector3d(v[4], v[5], v[6]);
+  d.kinetic = v[7];
+  d.internal = v[8];
+  d.removed = static_cast<std::size_t>(v[9]);
+  d.removed_mass = v[10];
+  d.work_dev = v[11];
+  d.heat_shock = v[12];
+  d.heat_transfer = v[13];
+  d.elastic = v[14];
+  d.dissipated = v[15];
+  return d;
+}
+
+// The series text as little-endian uint64 words (the h5 wrappers write numbers, not byte strings).
+std::vector<std::uint64_t> pack_bytes(const std::string& s) {
+  std::vector<std::uint64_t> w((s.size() + 7) / 8, 0);
+  for (std::size_t i = 0; i < s.size(); ++i)
+    w[i / 8] |= static_cast<std::uint64_t>(static_cast<unsigned char>(s[i])) << (8 * (i % 8));
+  return w;
+}
+std::string unpack_bytes(const std::vector<std::uint64_t>& w, std::size_t n) {
+  std::string s(n, '\0');
+  for (std::size_t i = 0; i < n; ++i) s[i] = static_cast<char>((w[i / 8] >> (8 * (i % 8))) & 0xff);
+  return s;
+}
+
+template <class T>
+std::vector<T> read_array(hid_t f, const std::string& name, long long rows, std::size_t cols, const std::string& file) {
+  if constexpr (std::is_same_v<T, double>)
+    return h5::read_doubles(f, name, rows, cols, file);
+  else if constexpr (std::is_same_v<T, std::uint64_t>)
+    return h5::read_u64(f, name, rows, cols, file);
+  else
+    return h5::read_i32(f, name, rows, cols, file);
+}
+
+// Every ParticleSet array under `group` (raw values; an unused optional array is left out).
+void write_set(hid_t group, const ParticleSet& ps) {
+  ParticleSet::for_each_array([&](const auto& a) {
+    const auto& v = ps.*a.member;
+    if (a.info.optional && v.empty()) return;
+    h5::write_dataset(group, a.info.name, v.data(), ps.size(), static_cast<std::size_t>(a.info.width), a.info.unit);
+  });
+}
+ParticleSet read_set(hid_t f, const std::string& group, long long n, const std::string& file) {
+  ParticleSet ps;
+  ParticleSet::for_each_array([&](const auto& a) {
+    using T = typename std::decay_t<decltype(a)>::element_type;
+    const std::string name = group + "/" + a.info.name;
+    if (a.info.optional && !h5::exists(f, name)) return;
+    ps.*a.member = read_array<T>(f, name, n, static_cast<std::size_t>(a.info.width), file);
+  });
+  return ps;
+}
+long long rows_of(hid_t f, const std::string& name, const std::string& file) {
+  const std::vector<hsize_t> s = h5::shape(f, name, file);
+  if (s.empty()) throw common::InputError(file, name, "is a scalar, expected an array");
+  return static_cast<long long>(s[0]);
+}
+std::size_t cols_of(hid_t f, const std::string& name, const std::string& file) {
+  const std::vector<hsize_t> s = h5::shape(f, name, file);
+  return s.size() >= 2 ? static_cast<std::size_t>(s[1]) : 1;
+}
+
+}  // namespace
+
+void write_checkpoint(const std::string& path, const Solver& solver, const DriverState& driver,
+                      const common::Provenance& prov, const std::string& identity) {
+  const SolverResume r = solver.resume_state();
+  const common::ParticleSnapshot snap =
+      make_snapshot(solver.particles(), solver.materials(), solver.grid(), r.time, r.step);
+  common::check_output_particles(snap, path);  // never Inf/NaN in an output (exit 3)
+  auto hook = [&](long long fid) {
+    const hid_t f = static_cast<hid_t>(fid);
+    h5::Handle g = h5::create_group(f, "mpm_state");
+    h5::write_attr(g, "format", std::string(kFormat));
+    h5::write_attr(g, "format_version", kVersion);
+    h5::write_attr(g, "step", static_cast<std::int64_t>(r.step));
+    h5::write_attr(g, "time", r.time);
+    h5::write_attr(g, "max_speed", r.max_speed);
+    h5::write_attr(g, "min_node_mass", r.min_node_mass);
+    h5::write_attr(g, "next_snapshot", driver.next_snapshot);
+    h5::write_attr(g, "first_dt", driver.first_dt);
+    h5::write_attr(g, "min_dt", driver.min_dt);
+    h5::write_attr(g, "max_dt", driver.max_dt);
+    h5::write_attr(g, "initial_totals", pack_totals(driver.initial));
+    h5::write_attr(g, "outflow_totals", pack_totals(r.outflow_totals));
+    h5::write_attr(g, "run_identity", identity);
+    h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
+    {
+      h5::Handle p = h5::create_group(g, "particles");
+      write_set(p, solver.particles());
+    }
+    const std::vector<MaterialSlot>& mats = solver.materials();
+    h5::write_attr(g, "material_count", static_cast<std::int64_t>(mats.size()));
+    h5::Handle mg = h5::create_group(g, "materials");
+    for (std::size_t m = 0; m < mats.size(); ++m) {
+      const MaterialSlot& s = mats[m];
+      h5::Handle sg = h5::create_group(mg, std::to_string(m));
+      h5::write_attr(sg, "name", s.name);
+      h5::write_attr(sg, "begin", static_cast<std::int64_t>(s.begin));
+      h5::write_attr(sg, "end", static_cast<std::int64_t>(s.end));
+      for (std::size_t k = 0; k < s.state.size(); ++k) {
+        const StateField& sf = s.style->state_fields[k];
+        h5::write_dataset(sg, sf.name, s.state[k].data(), s.end - s.begin, static_cast<std::size_t>(sf.ncomp),
+                          sf.unit);
+      }
+    }
+    h5::Handle og = h5::create_group(g, "outflow");
+    {
+      h5::Handle p = h5::create_group(og, "particles");
+      write_set(p, r.outflow);
+    }
+    h5::write_dataset(og, "removal_time", r.outflow_time.data(), r.outflow_time.size(), 1, "s");
+    h5::Handle fg = h5::create_group(og, "fields");
+    for (std::size_t k = 0; k < r.outflow_fields.size(); ++k) {
+      const common::Field& fl = r.outflow_fields[k];
+      const std::string name = std::to_string(k);
+      h5::write_dataset(fg, name, fl.values.data(), r.outflow.size(), fl.ncomp, fl.unit);
+      h5::Handle ds(H5Dopen2(fg, name.c_str(), H5P_DEFAULT));
+      h5::write_attr(ds, "name", fl.name);
+      h5::write_attr(ds, "description", fl.description);
+      h5::write_attr(ds, "initial", r.outflow_init[k]);
+    }
+    const std::vector<std::uint64_t> words = pack_bytes(driver.series);
+    h5::write_attr(g, "series_bytes", static_cast<std::int64_t>(driver.series.size()));
+    h5::write_dataset(g, "series", words.data(), words.size(), 1, "1");
+  };
+  common::write_particle_snapshot(path, snap, prov, hook);
+}
+
+Checkpoint read_checkpoint(const std::string& path) {
+  Checkpoint ck;
+  bool found = false;
+  auto hook = [&](long long fid) {
+    const hid_t f = static_cast<hid_t>(fid);
+    if (!h5::exists(f, "mpm_state")) return;
+    found = true;
+    h5::Handle g = h5::open_group(f, "mpm_state", path);
+    if (!h5::has_attr(g, "format") || h5::read_attr_string(g, "format", path) != kFormat)
+      throw common::InputError(path, "/mpm_state", std::string("format is not ") + kFormat);
+    const std::int64_t version = h5::read_attr_int(g, "format_version", path);
+    if (version > kVersion)
+      throw common::InputError(path, "/mpm_state", "format_version " + std::to_string(version) +
+                                                       " is newer than this mpm-frag reads (" + std::to_string(kVersion) + ")");
+    SolverResume& r = ck.solver;
+    r.step = h5::read_attr_int(g, "step", path);
+    r.time = h5::read_attr_double(g, "time", path);
+    r.max_speed = h5::read_attr_double(g, "max_speed", path);
+    r.min_node_mass = h5::read_attr_double(g, "min_node_mass", path);
+    ck.driver.next_snapshot = h5::read_attr_double(g, "next_snapshot", path);
+    ck.driver.first_dt = h5::read_attr_double(g, "first_dt", path);
+    ck.driver.min_dt = h5::read_attr_double(g, "min_dt", path);
+    ck.driver.max_dt = h5::read_attr_double(g, "max_dt", path);
+    ck.driver.initial = unpack_totals(h5::read_attr_doubles(g, "initial_totals", path), path, "initial_totals");
+    r.outflow_totals = unpack_totals(h5::read_attr_doubles(g, "outflow_totals", path), path, "outflow_totals");
+    ck.identity = h5::read_attr_string(g, "run_identity", path);
+    const long long n = rows_of(f, "/mpm_state/particles/id", path);
+    ck.particles = read_set(f, "/mpm_state/particles", n, path);
+    const std::int64_t nm = h5::read_attr_int(g, "material_count", path);
+    if (nm < 1 || nm > 1 << 16) throw common::InputError(path, "/mpm_state", "material_count out of range");
+    std::size_t next = 0;
+    for (std::int64_t m = 0; m < nm; ++m) {
+      const std::string sp = "/mpm_state/materials/" + std::to_string(m);
+      h5::Handle sg = h5::open_group(f, sp, path);
+      MaterialState ms;
+      ms.name = h5::read_attr_string(sg, "name", path);
+      const std::int64_t b = h5::read_attr_int(sg, "begin", path), e = h5::read_attr_int(sg, "end", path);
+      if (b != static_cast<std::int64_t>(next) || e < b || e > n)
+        throw common::InputError(path, sp, "particle range [begin, end) does not continue the previous material's");
+      ms.begin = static_cast<std::size_t>(b);
+      ms.end = next = static_cast<std::size_t>(e);
+      H5G_info_t info;
+      H5Gget_info(sg, &info);
+      for (hsize_t k = 0; k < info.nlinks; ++k) {
+        char name[256] = {0};
+        H5Lget_name_by_idx(sg, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+        const std::string ds = sp + "/" + name;
+        ms.fields.emplace_back(name, h5::read_doubles(f, ds, e - b, cols_of(f, ds, path), path));
+      }
+      ck.materials.push_back(std::move(ms));
+    }
+    if (next != static_cast<std::size_t>(n))
+      throw common::InputError(path, "/mpm_state/materials", "the materials' ranges do not cover every particle");
+    const long long no = rows_of(f, "/mpm_state/outflow/removal_time", path);
+    r.outflow = read_set(f, "/mpm_state/outflow/particles", no, path);
+    r.outflow_time = h5::read_doubles(f, "/mpm_state/outflow/removal_time", no, 1, path);
+    h5::Handle fg = h5::open_group(f, "/mpm_state/outflow/fields", path);
+    H5G_info_t info;
+    H5Gget_info(fg, &info);
+    for (hsize_t k = 0; k < info.nlinks; ++k) {
+      const std::string ds = "/mpm_state/outflow/fields/" + std::to_string(k);
+      h5::Handle d(H5Dopen2(f, ds.c_str(), H5P_DEFAULT));
+      if (!d.valid()) throw common::InputError(path, ds, "dataset is missing");
+      const std::size_t nc = cols_of(f, ds, path);
+      r.outflow_fields.push_back({h5::read_attr_string(d, "name", path), h5::unit_of(f, ds), nc,
+                                  h5::read_doubles(f, ds, no, nc, path), h5::read_attr_string(d, "description", path)});
+      r.outflow_init.push_back(h5::read_attr_double(d, "initial", path));
+    }
+    const std::int64_t bytes = h5::read_attr_int(g, "series_bytes", path);
+    const std::vector<std::uint64_t> words = h5::read_u64(f, "/mpm_state/series", -1, 1, path);
+    if (bytes < 0 || static_cast<std::uint64_t>(bytes) > 8 * words.size())
+      throw common::InputError(path, "/mpm_state/series", "series_bytes exceeds the stored words");
+    ck.driver.series = unpack_bytes(words, static_cast<std::size_t>(bytes));
+  };
+  const common::ParticleSnapshot snap = common::read_particle_snapshot(path, hook);
+  if (!found) throw common::InputError(path + ": not an mpm-frag checkpoint (no /mpm_state group)");
+  if (snap.count() != ck.particles.size() || snap.step != ck.solver.step)
+    throw common::InputError(path + ": /mpm_state does not match the snapshot it accompanies");
+  return ck;
+}
+
+void apply_materials(const Checkpoint& ck, std::vector<MaterialSlot>& mats, const std::string& path) {
+  if (ck.materials.size() != mats.size())
+    throw common::InputError(path + ": checkpoint has " + std::to_string(ck.materials.size()) +
+                             " materials, the scene " + std::to_string(mats.size()));
+  for (std::size_t m = 0; m < mats.size(); ++m) {
+    MaterialSlot& s = mats[m];
+    const MaterialState& c = ck.materials[m];
+    if (c.name != s.name)
+      throw common::InputError(path + ": material " + std::to_string(m) + " is '" + c.name + "', the scene's '" + s.name + "'");
+    if (c.fields.size() != s.style->state_fields.size())
+      throw common::InputError(path + ": material '" + s.name + "' has " + std::to_string(c.fields.size()) +
+                               " state fields, its style " + std::to_string(s.style->state_fields.size()));
+    s.begin = c.begin;
+    s.end = c.end;
+    s.state.assign(s.style->state_fields.size(), {});
+    for (std::size_t k = 0; k < s.state.size(); ++k) {
+      const StateField& sf = s.style->state_fields[k];
+      auto it = std::find_if(c.fields.begin(), c.fields.end(), [&](const auto& p) { return p.first == sf.name; });
+      if (it == c.fields.end() || it->second.size() != (c.end - c.begin) * static_cast<std::size_t>(sf.ncomp))
+        throw common::InputError(path + ": material '" + s.name + "': state field '" + sf.name +
+                                 "' missing or of the wrong size");
+      s.state[k] = it->second;
+    }
+  }
+}
+
+}  // namespace mpmfrag

@@ -1,0 +1,193 @@
+/// @file test_mpm_restart.cpp
+/// mpm-frag checkpoints and --restart on the real executable (a Tonge–Ramesh sphere hit by an
+/// elastic impactor, artificial viscosity on, a third body leaving the grid through the outflow
+/// edge, so that material state, the optional q array and the outflow record all travel):
+///  - SIGTERM mid-run: exit 143 after a checkpoint in the staging directory; a previous complete
+///    run in the directory stays byte for byte until the restarted run publishes;
+///  - SIGKILL after a periodic checkpoint (output.checkpoint_every), restart on 2 threads;
+///  - a completed run continued to a later time.end from its published checkpoint;
+/// each ends with every snapshot, the outflow record and the series equal to an uninterrupted
+/// run's (every dataset bit for bit; provenance aside). A checkpoint of another run (another
+/// density) is refused with exit 2 naming the key.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "common/particle_file.hpp"
+#include "test_util.hpp"
+#include "tool_runner.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+/// Every regular file directly in `dir` except the run lock, name -> content.
+std::map<std::string, std::string> contents(const std::string& dir) {
+  std::map<std::string, std::string> m;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && e.path().filename() != ".lock") m[e.path().filename().string()] = slurp(e.path().string());
+  return m;
+}
+std::string staging(const std::string& dir, pid_t pid) { return dir + "/.staging-" + std::to_string(pid); }
+
+template <class T>
+bool same_bits(const std::vector<T>& a, const std::vector<T>& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(T)) == 0);
+}
+/// Every dataset of two particle files bit for bit ("" if equal, else the first that differs).
+std::string snapshot_difference(const std::string& a_path, const std::string& b_path) {
+  const common::ParticleSnapshot a = common::read_particle_snapshot(a_path);
+  const common::ParticleSnapshot b = common::read_particle_snapshot(b_path);
+  if (a.time != b.time || a.step != b.step) return "time/step";
+  if (!same_bits(a.id, b.id)) return "id";
+  if (!same_bits(a.position, b.position)) return "position";
+  if (!same_bits(a.velocity, b.velocity)) return "velocity";
+  if (!same_bits(a.mass, b.mass)) return "mass";
+  if (!same_bits(a.volume, b.volume)) return "volume";
+  if (!same_bits(a.size, b.size)) return "size";
+  if (!same_bits(a.material, b.material)) return "material";
+  if (a.fields.size() != b.fields.size()) return "field count";
+  for (std::size_t k = 0; k < a.fields.size(); ++k)
+    if (a.fields[k].name != b.fields[k].name || !same_bits(a.fields[k].values, b.fields[k].values))
+      return a.fields[k].name;
+  return "";
+}
+
+/// `out` holds the same run as `ref`: every snapshot, the outflow record and the checkpoint's
+/// particles bit for bit, the series byte for byte.
+void expect_same_run(const std::string& ref, const std::string& out) {
+  std::size_t h5 = 0;
+  for (const auto& [name, _] : contents(ref)) {
+    if (!name.ends_with(".h5")) continue;
+    ++h5;
+    ASSERT_TRUE(fs::exists(out + "/" + name)) << name;
+    EXPECT_EQ(snapshot_difference(ref + "/" + name, out + "/" + name), "") << name;
+  }
+  EXPECT_GE(h5, 10u);  // 9 snapshots, outflow, checkpoint
+  EXPECT_TRUE(fs::exists(ref + "/ck_outflow.h5"));
+  EXPECT_EQ(slurp(out + "/ck_series.csv"), slurp(ref + "/ck_series.csv"));
+}
+
+/// The scene (tests/common/data/tiny_impact.toml); the tests set output.directory.
+std::string scene_file(const testutil::TempDir&) { return std::string(SUITE_SOURCE_DIR) + "/tests/common/data/tiny_impact.toml"; }
+
+class MpmRestart : public ::testing::Test {
+ protected:
+  /// The uninterrupted run (one thread), shared by the tests.
+  static void SetUpTestSuite() {
+    dir_ = new testutil::TempDir;
+    scene_ = scene_file(*dir_);
+    ref_ = dir_->file("ref");
+    const testutil::ToolResult r = mpm("--quiet --scene " + scene_ + " --set output.directory=\"" + ref_ + "\"");
+    ASSERT_EQ(r.rc, 0) << r.out;
+  }
+  static void TearDownTestSuite() {
+    delete dir_;
+    dir_ = nullptr;
+  }
+  static testutil::ToolResult mpm(const std::string& args) { return testutil::run_tool(MPM_FRAG_EXE, args); }
+  static std::string dir_set(const std::string& out) { return "output.directory=\"" + out + "\""; }
+  /// Start a run into `out`, wait until `file` (in its staging directory) exists, send `sig`.
+  /// `restart`: the checkpoint it continues (then `file` is a path that must change, not appear).
+  static pid_t interrupt(const std::string& out, const std::string& file, int sig, std::vector<std::string> sets,
+                         int* status, const std::string& restart = "") {
+    sets.push_back(dir_set(out));
+    const auto mtime = [&](const std::string& p) {
+      std::error_code ec;
+      return fs::last_write_time(p, ec);
+    };
+    const auto before = mtime(file);
+    const pid_t pid = testutil::spawn_tool(MPM_FRAG_EXE, scene_, sets,
+                                           restart.empty() ? std::vector<std::string>{}
+                                                           : std::vector<std::string>{"--restart", restart});
+    const bool reached = testutil::wait_for([&] {
+      return restart.empty() ? fs::exists(staging(out, pid) + "/" + file) : mtime(file) != before;
+    });
+    kill(pid, sig);
+    waitpid(pid, status, 0);
+    EXPECT_TRUE(reached) << file;
+    return pid;
+  }
+
+  static testutil::TempDir* dir_;
+  static std::string scene_, ref_;
+};
+testutil::TempDir* MpmRestart::dir_ = nullptr;
+std::string MpmRestart::scene_, MpmRestart::ref_;
+
+}  // namespace
+
+TEST_F(MpmRestart, SigtermWritesACheckpointAndRestartIsBitIdenticalKeepingThePreviousRunUntilPublish) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  // A previous complete run in the directory (a shorter one).
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set time.end=5e-5").rc, 0);
+  const auto previous = contents(out);
+  int status = 0;
+  const pid_t pid = interrupt(out, "ck_000078.h5", SIGTERM, {}, &status);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 128 + SIGTERM);
+  const std::string ckpt = staging(out, pid) + "/ck_checkpoint.h5";
+  ASSERT_TRUE(fs::exists(ckpt));
+  EXPECT_EQ(contents(out), previous);
+  // A restart killed (SIGKILL) after its own first periodic checkpoint: still nothing published.
+  interrupt(out, ckpt, SIGKILL, {"output.checkpoint_every=5"}, &status, ckpt);
+  EXPECT_TRUE(WIFSIGNALED(status));
+  EXPECT_EQ(contents(out), previous);
+  const testutil::ToolResult r = mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --restart " + ckpt);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  expect_same_run(ref_, out);
+  EXPECT_FALSE(fs::exists(staging(out, pid)));
+  EXPECT_FALSE(fs::exists(out + "/ck_000010.h5"));  // the previous run's files are gone
+}
+
+TEST_F(MpmRestart, SigkillAfterAPeriodicCheckpointRestartsBitIdenticallyOnTwoThreads) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  int status = 0;
+  const pid_t pid = interrupt(out, "ck_checkpoint.h5", SIGKILL, {"output.checkpoint_every=40"}, &status);
+  ASSERT_TRUE(WIFSIGNALED(status));
+  const std::string ckpt = staging(out, pid) + "/ck_checkpoint.h5";
+  const testutil::ToolResult r =
+      mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set run.threads=2 --restart " + ckpt);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  expect_same_run(ref_, out);
+}
+
+TEST_F(MpmRestart, CompletedRunContinuesToALaterEndFromItsPublishedCheckpoint) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set time.end=1e-4").rc, 0);
+  const testutil::ToolResult r = mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --restart " + out +
+                                     "/ck_checkpoint.h5");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  expect_same_run(ref_, out);  // snapshots up to 1e-4 s carried over, the rest computed
+}
+
+TEST_F(MpmRestart, CheckpointOfAnotherRunIsRefused) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set time.end=2.5e-5").rc, 0);
+  const auto before = contents(out);
+  const testutil::ToolResult r = mpm("--scene " + scene_ + " --set " + dir_set(out) +
+                                     " --set material[1].density=1100.0 --restart " + out + "/ck_checkpoint.h5");
+  EXPECT_EQ(r.rc, 2) << r.out;
+  EXPECT_NE(r.out.find(out + "/ck_checkpoint.h5: checkpoint of another run (run identity "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("they differ in material[1].density: this run 1100.0, checkpoint 1000.0"), std::string::npos)
+      << r.out;
+  EXPECT_EQ(contents(out), before);
+  // not a checkpoint at all: a snapshot
+  const testutil::ToolResult s = mpm("--scene " + scene_ + " --set " + dir_set(out) + " --restart " + out + "/ck_000000.h5");
+  EXPECT_EQ(s.rc, 2) << s.out;
+  EXPECT_NE(s.out.find("not an mpm-frag checkpoint"), std::string::npos) << s.out;
+}
