@@ -67,6 +67,27 @@ common::SeriesFormat series_format() {
                                {"wall_s", "s"}},
                               {.precision = 17});
 }
+std::string cadence_text(const SimConfig& c) {
+  std::ostringstream os;
+  if (c.adaptive_gravity)
+    os << "cadence adaptive (gravity.tolerance = " << c.gravity_tolerance << ", max_every = " << c.gravity_max_every << ")";
+  else
+    os << "cadence fixed, every " << c.gravity_every << " steps";
+  return os.str();
+}
+
+// The cadence used and its estimated force error (simulation.hpp, error-controlled cadence).
+std::string cadence_report(const Simulation& sim) {
+  const CadenceStats& c = sim.cadence_stats();
+  const PhaseTimes& t = sim.times();
+  std::ostringstream os;
+  os << "gravity cadence: " << t.gravity_evals << " evaluations in " << t.steps << " steps";
+  if (c.blocks > 0)
+    os << " (adaptive: mean block " << c.mean_block() << " steps, min " << c.min_block << ", max " << c.max_block
+       << "; measured rms relative force change per block: max " << c.max_change << ", mean " << c.mean_change()
+       << ", largest of one sphere " << c.max_change_one << "; estimated force error <= half of it)";
+  return os.str();
+}
 }  // namespace
 
 int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
@@ -118,32 +139,36 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
                      "checkpoint's value so the continuation is exact", cfg.contact.kn, kn0);
       cfg.contact.kn = kn0;
     }
-    if (cfg.dt != dt0 || cfg.gravity_every != every0)
+    // the checkpoint's `every` is the length of the gravity block starting at its step
+    if (cfg.dt != dt0 || (!cfg.adaptive_gravity && cfg.gravity_every != every0))
       spdlog::warn("restart: dt or gravity.every differ from the checkpoint ({} s, {}); using the "
                    "checkpoint's values so the continuation is exact",
                    dt0, every0);
     cfg.dt = dt0;
-    cfg.gravity_every = every0;
+    if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
+    st.gravity_block = every0;
     sim = std::make_unique<Simulation>(std::move(st), cfg);
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
   }
   const SimConfig& cfg = sim->config();
+  std::string run_info;
   {
     std::ostringstream os;
     os << info << "spheres: " << sim->spheres().size() << "\ndt = " << cfg.dt
        << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
-       << ", every " << cfg.gravity_every << " steps\ncontacts: " << (cfg.contacts ? "on" : "off")
+       << ", " << cadence_text(cfg) << "\ncontacts: " << (cfg.contacts ? "on" : "off")
        << "\nk_n = " << cfg.contact.kn << " N/m, parts mask = " << cfg.contact.parts << "\n";
-    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), os.str());
-    spdlog::info("ssdem-grav: {} spheres, dt = {} s, gravity {} (every {}), contacts {}",
+    run_info = os.str();
+    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info);
+    spdlog::info("ssdem-grav: {} spheres, dt = {} s, gravity {} ({}), contacts {}",
                  sim->spheres().size(), cfg.dt,
                  cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off",
-                 cfg.gravity_every, cfg.contacts ? "on" : "off");
+                 cadence_text(cfg), cfg.contacts ? "on" : "off");
   }
   sim->set_keep_last_good(std::max<std::int64_t>(cfg.gravity_every, 100 / cfg.gravity_every * cfg.gravity_every));
 
   const double t_end = sc.real("time.end");
-  const std::int64_t k = cfg.gravity_every;
+  const std::int64_t k = cfg.adaptive_gravity ? 1 : cfg.gravity_every;
   std::int64_t series_every = sc.integer("output.series_every");
   series_every = (series_every + k - 1) / k * k;
   const double snap_dt = sc.real("output.snapshot_interval");
@@ -156,6 +181,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   // end on a gravity-block boundary (velocities physical there)
   std::int64_t n_end = static_cast<std::int64_t>(std::ceil(t_end / cfg.dt - 1e-9));
   n_end = (n_end + k - 1) / k * k;
+  sim->set_end_step(n_end);
 
   // Rows go to series.csv.partial and are renamed onto series.csv when the run ends, stops on a
   // numerical failure (after saving its state) or on a signal (after its checkpoint); a run that
@@ -182,7 +208,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
   };
   auto checkpoint = [&]() {
-    write_checkpoint(ckpt_path, sim->state(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn, ident.text());
+    const SimState st = sim->state();
+    write_checkpoint(ckpt_path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
     spdlog::info("checkpoint at step {} -> {}", sim->step_count(), ckpt_path);
   };
   double next_snap = snap_dt > 0 ? (std::floor(sim->time() / snap_dt + 1e-9) + 1) * snap_dt : INFINITY;
@@ -196,13 +223,17 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     write_snapshot(snap_name(dir, 0), sim->spheres(), sim->time(), 0, prov);
   }
   double last_ckpt_wall = progress.elapsed();
+  std::int64_t next_row = (sim->step_count() / series_every + 1) * series_every;
+  std::int64_t next_ckpt = ckpt_every > 0 ? (sim->step_count() / ckpt_every + 1) * ckpt_every : 0;
   try {
     while (sim->step_count() < n_end) {
       sim->step();
       const std::int64_t s = sim->step_count();
-      const bool boundary = s % k == 0;
-      if (!boundary) continue;  // velocities are physical at gravity-block boundaries only
-      if (s % series_every == 0 || s >= n_end) write_row();
+      if (!sim->at_gravity_boundary()) continue;  // velocities are physical at block boundaries only
+      if (s >= next_row || s >= n_end) {
+        write_row();
+        next_row = (s / series_every + 1) * series_every;
+      }
       bool snap = false;
       if (sim->time() >= next_snap - 1e-9 * cfg.dt) {
         snap = true;
@@ -220,16 +251,18 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", sig, s, ckpt_path);
         return 128 + sig;
       }
-      if ((ckpt_every > 0 && s % ckpt_every == 0) ||
+      if ((ckpt_every > 0 && s >= next_ckpt) ||
           (ckpt_wall > 0 && progress.elapsed() - last_ckpt_wall > ckpt_wall)) {
         checkpoint();
         last_ckpt_wall = progress.elapsed();
+        if (ckpt_every > 0) next_ckpt = (s / ckpt_every + 1) * ckpt_every;
       }
     }
   } catch (common::NumericalError& e) {
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
     if (sim->last_good()) {
-      write_checkpoint(failed, *sim->last_good(), cfg.dt, static_cast<int>(k), prov, cfg.contact.kn, ident.text());
+      write_checkpoint(failed, *sim->last_good(), cfg.dt, sim->last_good()->gravity_block, prov, cfg.contact.kn,
+                       ident.text());
       spdlog::error("{}; last good state (step {}) saved to {}", e.what(), sim->last_good()->step, failed);
     } else {
       write_snapshot(failed, sim->spheres(), sim->time(), sim->step_count(), prov);
@@ -241,6 +274,11 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   }
   checkpoint();
   series_file.commit();
+  if (cfg.self_gravity) {
+    const std::string c = cadence_report(*sim);
+    spdlog::info("{}", c);
+    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + c + "\n");
+  }
   rd.publish();
   spdlog::info("run complete: outputs published in {}", out_dir);
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);

@@ -4,6 +4,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <sstream>
@@ -15,6 +16,9 @@ namespace ssdem {
 namespace {
 // Below this many items a loop runs serially (thread start-up would dominate).
 constexpr std::size_t kOmpMin = 2048;
+// Adaptive gravity cadence: largest relative force change of any one sphere per block (above the
+// tree's own per-sphere error jumps when the tree changes, up to ~2e-2).
+constexpr double kMaxChange = 0.1;
 double cpu_now() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -30,6 +34,7 @@ Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(st
   a_.assign(n, Vec3::Zero());
   alpha_.assign(n, Vec3::Zero());
   ag_.assign(n, Vec3::Zero());
+  block_ = cfg_.adaptive_gravity ? 1 : cfg_.gravity_every;
   compute_forces(true);
   check_state();
 }
@@ -47,6 +52,13 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
   step_ = st.step;
   time_ = st.time;
   grav_step_ = st.gravity_step;
+  if (cfg_.adaptive_gravity) {
+    block_start_ = step_;  // adaptive: states are saved at block boundaries
+    block_ = st.gravity_block > 0 ? st.gravity_block : 1;
+  } else {
+    block_ = cfg_.gravity_every;  // fixed: blocks start at multiples of k (a state may be mid-block)
+    block_start_ = step_ / block_ * block_;
+  }
   if (cfg_.extrapolated_predictor && st.a_prev.size() == n) {
     a_prev_ = std::move(st.a_prev);
     alpha_prev_ = std::move(st.alpha_prev);
@@ -57,6 +69,8 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
 void Simulation::setup() {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
   if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
+  if (cfg_.adaptive_gravity && (!(cfg_.gravity_tolerance > 0.0) || cfg_.gravity_max_every < 1))
+    throw common::InputError("gravity.tolerance must be > 0 and gravity.max_every >= 1");
   const std::size_t n = sp_.size();
   if (!sp_.consistent()) throw common::InputError("spheres: array sizes differ");
   for (std::size_t i = 0; i < n; ++i)
@@ -155,9 +169,9 @@ void Simulation::step() {
   const double h = cfg_.dt, hh = 0.5 * h;
   const bool spin = contacts_ != nullptr;
   const bool sg = cfg_.self_gravity;
-  const int k = cfg_.gravity_every;
+  const int k = block_;
   const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
-  const bool open_kick = sg && step_ % k == 0;
+  const bool open_kick = sg && step_ == block_start_;
   double t0 = omp_get_wtime(), c0 = cpu_now();
 #pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
@@ -171,20 +185,61 @@ void Simulation::step() {
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now() - c0;
   compute_forces(false);
-  const bool close_kick = sg && step_ % k == 0;
-  if (close_kick) compute_gravity(false);
+  const bool close_kick = step_ == block_start_ + k;
+  if (sg && close_kick) {
+    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    compute_gravity(false);
+  }
   t0 = omp_get_wtime();
   c0 = cpu_now();
 #pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
-    if (close_kick) sp_.v[i] += hk * ag_[i];
+    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
   }
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now() - c0;
+  if (close_kick) close_gravity_block();
   ++times_.steps;
   check_state();
+}
+
+void Simulation::close_gravity_block() {
+  const int k = block_;
+  block_start_ = step_;
+  int next = cfg_.gravity_every;
+  if (cfg_.adaptive_gravity) {
+    next = 1;
+    if (cfg_.self_gravity) {
+      const std::size_t n = sp_.size();
+      double g2 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : g2) if (n >= kOmpMin)
+      for (std::size_t i = 0; i < n; ++i) g2 += ag_[i].squaredNorm();
+      const double floor = 0.1 * std::sqrt(g2 / static_cast<double>(std::max<std::size_t>(n, 1)));
+      double cmax = 0, d2 = 0;
+#pragma omp parallel for schedule(static) reduction(max : cmax) reduction(+ : d2) if (n >= kOmpMin)
+      for (std::size_t i = 0; i < n; ++i) {
+        const double d = (ag_[i] - ag_old_[i]).norm();
+        d2 += d * d;
+        cmax = std::max(cmax, d / std::max({ag_[i].norm(), floor, 1e-300}));
+      }
+      const double c = g2 > 0 ? std::sqrt(d2 / g2) : 0.0;
+      const double r = std::max(c / cfg_.gravity_tolerance, cmax / kMaxChange);
+      const double grow = r > 0 ? static_cast<double>(k) / r : 2.0 * k;
+      cadence_.max_change_one = std::max(cadence_.max_change_one, cmax);
+      next = static_cast<int>(std::clamp(std::floor(grow), 1.0,
+                                         static_cast<double>(std::min(2 * k, cfg_.gravity_max_every))));
+      ++cadence_.blocks;
+      cadence_.steps += k;
+      cadence_.min_block = cadence_.blocks == 1 ? k : std::min<std::int64_t>(cadence_.min_block, k);
+      cadence_.max_block = std::max<std::int64_t>(cadence_.max_block, k);
+      cadence_.max_change = std::max(cadence_.max_change, c);
+      cadence_.sum_change += c;
+    }
+  }
+  if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));
+  block_ = std::max(next, 1);
 }
 
 void Simulation::check_state() {
@@ -214,7 +269,8 @@ void Simulation::check_state() {
        << " at step " << step_ << ": k_n too soft or dt too large for this impact speed";
     throw common::NumericalError(os.str());
   }
-  if (keep_every_ > 0 && step_ % keep_every_ == 0) last_good_ = state();
+  if (keep_every_ > 0 && at_gravity_boundary() && (!last_good_ || step_ >= last_good_->step + keep_every_))
+    last_good_ = state();
 }
 
 Diagnostics Simulation::diagnostics() {
@@ -263,6 +319,7 @@ SimState Simulation::state() const {
   s.step = step_;
   s.time = time_;
   s.gravity_step = grav_step_;
+  s.gravity_block = block_;
   s.a_prev = a_prev_;
   s.alpha_prev = alpha_prev_;
   if (contacts_) s.history = contacts_->export_history(sp_);

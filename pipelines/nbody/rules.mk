@@ -64,3 +64,23 @@ nbody-debris-bench: nbody-debris-scenes ## neighbour list on debris: us/sphere-s
 nbody-debris-skin: nbody-debris-scenes ## contact.skin sweep on the debris scenes and the static pile
 	$(DEBRIS_ENV) $(PY) $(NBODY_DIR)/debris_bench.py sweep $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-debris \
 	  --skins $(DEBRIS_SKINS)
+
+# nbody-gravity-bench: issue 15's dense HCP pile (1e4 spheres x 300 steps, 5e4 x 100), gravity every
+# step (old and new interleaved with GRAVITY_OLD=<another ssdem-grav>) and with the error-controlled
+# cadence; 1 and 2 threads, medians, phase split. nbody-gravity-sweep: force error and cost of one
+# tree evaluation across theta, bucket and group size on the 1e4 pile (how the defaults were chosen).
+GRAVITY_OLD ?=
+GRAVITY_ROUNDS ?= 3
+.PHONY: nbody-gravity-bench nbody-gravity-sweep
+nbody-gravity-bench: ## dense-pile gravity benchmark: us/sphere-step, phases, energy error (old vs new with GRAVITY_OLD=)
+	cmake --build $(BUILD) --target ssdem-grav nbody-dense-pile -j $(JOBS)
+	mkdir -p $(RUNS)/nbody-gravity
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/gravity_bench.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-gravity \
+	  --rounds $(GRAVITY_ROUNDS) $(if $(GRAVITY_OLD),--old $(GRAVITY_OLD))
+
+nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense pile of 1e4)
+	cmake --build $(BUILD) --target nbody-dense-pile nbody-gravity-sweep -j $(JOBS)
+	mkdir -p $(RUNS)/nbody-gravity
+	$(BUILD)/tests/nbody/nbody-dense-pile $(RUNS)/nbody-gravity/pile_10000.h5 10000
+	OMP_NUM_THREADS=1 $(BUILD)/tests/nbody/nbody-gravity-sweep $(RUNS)/nbody-gravity/pile_10000.h5 \
+	  0.25,0.3,0.35,0.4,0.5 8,16 32,64,128 | tee $(RUNS)/nbody-gravity/sweep.md

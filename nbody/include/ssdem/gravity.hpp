@@ -35,8 +35,9 @@ namespace ssdem {
 
 struct GravityParams {
   double G = 6.674e-11;  ///< [m^3 kg^-1 s^-2]
-  double theta = 0.3;    ///< opening angle (0.3: rms force error 6e-4 uniform, 4e-4 clustered)
-  int bucket = 16;       ///< max particles per leaf
+  double theta = 0.25;   ///< opening angle: rms relative force error <= 1e-3 on piles (test_nbody_gravity_tree)
+  int bucket = 8;        ///< max particles per leaf
+  int group = 64;        ///< max sinks per group sharing one interaction list (>= bucket)
   int max_depth = 40;    ///< subdivision cap (coincident points)
 };
 
@@ -91,7 +92,7 @@ class TreeGravity {
   };
   void build(const Spheres& sp);
   std::uint32_t build_node(std::uint32_t self, std::uint32_t start, std::uint32_t count,
-                           const Vec3& c, double half, int depth);
+                           const Vec3& c, double half, int depth, bool in_group);
   void moments(std::uint32_t node);
 
   GravityParams p_;
@@ -99,9 +100,10 @@ class TreeGravity {
   std::vector<Node> nodes_;
   std::vector<std::uint32_t> perm_;
   std::vector<double> px_, py_, pz_, pm_, ph_;  // particle data in tree order
-  std::vector<std::uint32_t> leaves_;
+  std::vector<std::uint32_t> leaves_, groups_;
   std::vector<std::uint32_t> scratch_;
   const Spheres* sp_ = nullptr;
+  double root_half_ = 1.0;
 };
 
 }  // namespace ssdem

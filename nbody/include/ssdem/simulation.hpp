@@ -21,6 +21,23 @@
 /// conservative forces (bounded energy error, no drift); k = 1 is plain KDK. Velocities are the
 /// physical ones only at block boundaries (step % k == 0): diagnostics and outputs should be taken
 /// there. Its error against k = 1 is measured (tests, pipelines/nbody), not assumed.
+/// Error-controlled cadence (adaptive_gravity; the scene default): the block length k is chosen
+/// anew at the end of every block from the force change the block just measured. With g_i the
+/// new and g_i' the previous evaluation (k_prev steps apart) and g_rms the rms of |g_i|,
+///   c   = sqrt(sum_i |g_i - g_i'|^2 / sum_i |g_i|^2)           (rms relative change, the
+///         measure of the tree's rms force error)
+///   c_1 = max_i |g_i - g_i'| / max(|g_i|, 0.1 g_rms)           (largest change of one sphere)
+///   k = floor(k_prev / max(c / eta, c_1 / 0.1)), clamped to [1, min(2 k_prev, k_max)] and to the
+///       run's end,
+/// i.e. the next block may change the forces by about eta (rms, relative) and no sphere's by more
+/// than 10 % if they keep changing at the measured rate (0.1: above the per-sphere jumps of the
+/// tree's own error when the tree's cells change, ~1e-2 to 2e-2, which would
+/// otherwise pin k to 1). Forces that change fast (a close encounter, a fragment hitting a pile)
+/// give k = 1, every step. The first block after a start is one step. The measured
+/// c of every block is the reported estimate of the cadence's force error (gravity_cadence_stats);
+/// the impulse scheme applies (g' + g)/2 on average over a block, so the force error it makes is
+/// at most c/2 and, for a force changing linearly, second order. A block's length is part of the
+/// state at its start (SimState::gravity_block; checkpoints store it), so restarts are exact.
 /// Deviation from pkdgrav: pkdgrav evaluates gravity every step (iMaxRung = 1); predicted
 /// velocities for the dashpots here include the contact/uniform acceleration only (the gravity
 /// impulse is nearly uniform over a contact pair).
@@ -43,7 +60,10 @@ struct SimConfig {
   bool self_gravity = false;
   bool direct_gravity = false;  ///< O(N^2) instead of the tree
   GravityParams gravity;
-  int gravity_every = 1;
+  int gravity_every = 1;           ///< fixed cadence: block length (adaptive_gravity = false)
+  bool adaptive_gravity = false;   ///< error-controlled cadence (see file comment)
+  double gravity_tolerance = 1e-3; ///< eta: relative force change allowed per block
+  int gravity_max_every = 64;      ///< k_max of the adaptive cadence
   Vec3 uniform_g = Vec3::Zero();
   bool contacts = false;
   ContactParams contact;
@@ -62,6 +82,7 @@ struct SimState {
   std::int64_t step = 0;
   double time = 0.0;
   std::int64_t gravity_step = -1;  ///< step at which ag was computed
+  int gravity_block = 0;           ///< length of the gravity block starting at `step` (0: gravity_every)
   std::vector<Vec3> a_prev, alpha_prev;  ///< previous contact accelerations (predictor); may be empty
   std::vector<HistoryRecord> history;
   BondSet bonds;  ///< bonds with their state (empty: none)
@@ -77,6 +98,16 @@ struct Diagnostics {
   Vec3 angular_momentum = Vec3::Zero();  ///< orbital + spin, about the origin
   std::size_t contacts = 0, wall_contacts = 0;
   double max_overlap_frac = 0;
+};
+
+/// What the adaptive gravity cadence did: blocks (= evaluations after the first), their lengths
+/// and the measured relative force change per block (c in the file comment).
+struct CadenceStats {
+  std::int64_t blocks = 0, steps = 0, min_block = 0, max_block = 0;
+  double max_change = 0, sum_change = 0;  ///< c (rms)
+  double max_change_one = 0;               ///< c_1 (one sphere)
+  double mean_block() const { return blocks ? static_cast<double>(steps) / static_cast<double>(blocks) : 0.0; }
+  double mean_change() const { return blocks ? sum_change / static_cast<double>(blocks) : 0.0; }
 };
 
 /// Seconds spent per phase: wall clock, and process CPU time (all threads; "core-seconds").
@@ -97,6 +128,13 @@ class Simulation {
   /// Advance one step. Throws common::NumericalError on NaN/Inf or runaway overlap; the state
   /// is then the failing one, and last_good() holds the last verified state.
   void step();
+  /// True when the current step ends a gravity block (velocities are the physical ones there).
+  bool at_gravity_boundary() const { return step_ == block_start_; }
+  /// Length of the current gravity block (steps).
+  int gravity_block() const { return block_; }
+  /// Blocks never extend past this step (the run's last step); 0 = no limit.
+  void set_end_step(std::int64_t s) { end_step_ = s; }
+  const CadenceStats& cadence_stats() const { return cadence_; }
   void run(std::int64_t nsteps) {
     for (std::int64_t k = 0; k < nsteps; ++k) step();
   }
@@ -134,6 +172,7 @@ class Simulation {
   void compute_forces(bool initial);
   void compute_gravity(bool with_pot);
   void check_state();
+  void close_gravity_block();
 
   SimConfig cfg_;
   Spheres sp_;
@@ -142,6 +181,10 @@ class Simulation {
   std::int64_t pot_step_ = -1, grav_step_ = -1;
   std::int64_t step_ = 0;
   double time_ = 0.0;
+  std::int64_t block_start_ = 0, end_step_ = 0;
+  int block_ = 1;
+  std::vector<Vec3> ag_old_;
+  CadenceStats cadence_;
   std::unique_ptr<ContactSystem> contacts_;
   std::unique_ptr<TreeGravity> tree_;
   std::unique_ptr<BondSystem> bonds_;  ///< only when the scene has bonds

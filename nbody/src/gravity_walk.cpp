@@ -1,0 +1,174 @@
+/// @file gravity_walk.cpp
+/// Group tree walk of TreeGravity (gravity.hpp): one walk per leaf (the sink group) builds three
+/// interaction lists shared by the leaf's spheres — multipole cells, far particles (Newtonian
+/// pairs) and near particles (possibly overlapping pairs, spline kernel) — gathered into
+/// structure-of-arrays buffers and summed by the vectorised kernels of gravity_kernels.cpp.
+#include <algorithm>
+#include <cmath>
+
+#include "gravity_kernels.hpp"
+#include "ssdem/gravity.hpp"
+
+namespace ssdem {
+namespace {
+// Distance between two axis-aligned boxes (0 if they overlap).
+double box_distance(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+  const Vec3 d = (alo - bhi).cwiseMax(blo - ahi).cwiseMax(Vec3::Zero());
+  return d.norm();
+}
+// Per-thread gather buffers.
+struct Lists {
+  std::vector<std::uint32_t> stack, cells, far, near;  // far/near: leaf node indices
+  std::vector<float> cbuf, fbuf, sbuf;
+  std::vector<double> nbuf, sdbl, acc;
+  std::vector<std::int32_t> ntid, stid;
+};
+}  // namespace
+
+void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot) {
+  const std::size_t n = sp.size();
+  acc.assign(n, Vec3::Zero());
+  if (pot) pot->assign(n, 0.0);
+  if (n == 0) return;
+  build(sp);
+  // Kernel units (single precision must neither overflow nor underflow for any SI scene):
+  // lengths in units of the root cell's half-size L, masses in units of the total mass M,
+  // coordinates relative to each group's centre.
+  const double L = root_half_, M = nodes_[0].mass;
+  const double il = 1.0 / L, im = 1.0 / M, il2 = il * il;
+  const double facc = p_.G * M / (L * L), fpot = p_.G * M / L;
+  const double itheta = 1.0 / p_.theta;
+  const std::size_t nl = groups_.size();
+  double tot_cells = 0, tot_parts = 0;
+#pragma omp parallel reduction(+ : tot_cells, tot_parts) if (n >= 1024)
+  {
+    Lists w;
+    w.stack.reserve(256);
+#pragma omp for schedule(dynamic, 4)
+    for (std::size_t L = 0; L < nl; ++L) {
+      const std::uint32_t gi = groups_[L];
+      const Node& g = nodes_[gi];
+      w.cells.clear();
+      w.far.clear();
+      w.near.clear();
+      w.stack.assign(1, 0);
+      while (!w.stack.empty()) {
+        const std::uint32_t ci = w.stack.back();
+        w.stack.pop_back();
+        const Node& c = nodes_[ci];
+        if (ci == gi) {
+          w.near.push_back(ci);
+          continue;
+        }
+        const Vec3 dd = (g.lo - c.com).cwiseMax(c.com - g.hi).cwiseMax(Vec3::Zero());
+        const double rmin2 = dd.squaredNorm();
+        const double ropen = std::max(c.bmax * itheta, c.bmax + c.hmax + g.hmax);
+        if (rmin2 > ropen * ropen) {
+          w.cells.push_back(ci);
+        } else if (c.child < 0) {
+          (box_distance(c.lo, c.hi, g.lo, g.hi) < c.hmax + g.hmax ? w.near : w.far).push_back(ci);
+        } else {
+          for (int k = c.nchild - 1; k >= 0; --k) w.stack.push_back(c.child + k);
+        }
+      }
+      // gather the lists (structure of arrays)
+      const Vec3 c0 = 0.5 * (g.lo + g.hi);
+      detail::CellList cl;
+      cl.n = w.cells.size();
+      w.cbuf.resize(10 * cl.n);
+      {
+        float* b = w.cbuf.data();
+        const std::size_t m = cl.n;
+        cl.x = b, cl.y = b + m, cl.z = b + 2 * m, cl.m = b + 3 * m;
+        cl.q0 = b + 4 * m, cl.q1 = b + 5 * m, cl.q2 = b + 6 * m;
+        cl.q3 = b + 7 * m, cl.q4 = b + 8 * m, cl.q5 = b + 9 * m;
+        for (std::size_t k = 0; k < m; ++k) {
+          const Node& nd = nodes_[w.cells[k]];
+          b[k] = static_cast<float>((nd.com.x() - c0.x()) * il);
+          b[m + k] = static_cast<float>((nd.com.y() - c0.y()) * il);
+          b[2 * m + k] = static_cast<float>((nd.com.z() - c0.z()) * il);
+          b[3 * m + k] = static_cast<float>(nd.mass * im);
+          for (int q = 0; q < 6; ++q) b[(4 + q) * m + k] = static_cast<float>(nd.q[q] * im * il2);
+        }
+      }
+      std::size_t nf = 0, nn = 0;
+      for (std::uint32_t li : w.far) nf += nodes_[li].count;
+      for (std::uint32_t li : w.near) nn += nodes_[li].count;
+      detail::PartList fl;
+      fl.n = nf;
+      w.fbuf.resize(4 * nf);
+      {
+        float* b = w.fbuf.data();
+        fl.x = b, fl.y = b + nf, fl.z = b + 2 * nf, fl.m = b + 3 * nf;
+        std::size_t k = 0;
+        for (std::uint32_t li : w.far)
+          for (std::uint32_t t = nodes_[li].start; t < nodes_[li].start + nodes_[li].count; ++t, ++k) {
+            b[k] = static_cast<float>((px_[t] - c0.x()) * il);
+            b[nf + k] = static_cast<float>((py_[t] - c0.y()) * il);
+            b[2 * nf + k] = static_cast<float>((pz_[t] - c0.z()) * il);
+            b[3 * nf + k] = static_cast<float>(pm_[t] * im);
+          }
+      }
+      detail::NearList nlst;
+      nlst.n = nn;
+      w.nbuf.resize(5 * nn);
+      w.ntid.resize(nn);
+      {
+        double* b = w.nbuf.data();
+        nlst.x = b, nlst.y = b + nn, nlst.z = b + 2 * nn, nlst.m = b + 3 * nn, nlst.h = b + 4 * nn;
+        nlst.tid = w.ntid.data();
+        std::size_t k = 0;
+        for (std::uint32_t li : w.near)
+          for (std::uint32_t t = nodes_[li].start; t < nodes_[li].start + nodes_[li].count; ++t, ++k) {
+            b[k] = (px_[t] - c0.x()) * il;
+            b[nn + k] = (py_[t] - c0.y()) * il;
+            b[2 * nn + k] = (pz_[t] - c0.z()) * il;
+            b[3 * nn + k] = pm_[t] * im;
+            b[4 * nn + k] = ph_[t] * il;
+            w.ntid[k] = static_cast<std::int32_t>(t);
+          }
+      }
+      // sinks
+      const std::size_t ns = g.count;
+      w.sbuf.resize(3 * ns);
+      w.sdbl.resize(4 * ns);
+      w.stid.resize(ns);
+      w.acc.assign(4 * ns, 0.0);
+      detail::GroupSinks s;
+      s.n = ns;
+      {
+        float* b = w.sbuf.data();
+        double* d = w.sdbl.data();
+        for (std::size_t k = 0; k < ns; ++k) {
+          const std::uint32_t t = g.start + static_cast<std::uint32_t>(k);
+          d[k] = (px_[t] - c0.x()) * il;
+          d[ns + k] = (py_[t] - c0.y()) * il;
+          d[2 * ns + k] = (pz_[t] - c0.z()) * il;
+          d[3 * ns + k] = ph_[t] * il;
+          b[k] = static_cast<float>(d[k]), b[ns + k] = static_cast<float>(d[ns + k]);
+          b[2 * ns + k] = static_cast<float>(d[2 * ns + k]);
+          w.stid[k] = static_cast<std::int32_t>(t);
+        }
+        s.x = b, s.y = b + ns, s.z = b + 2 * ns, s.tid = w.stid.data();
+        s.xd = d, s.yd = d + ns, s.zd = d + 2 * ns, s.hd = d + 3 * ns;
+        double* a = w.acc.data();
+        s.ax = a, s.ay = a + ns, s.az = a + 2 * ns;
+        s.pot = pot ? a + 3 * ns : nullptr;
+      }
+      detail::cell_kernel(s, cl);
+      detail::far_kernel(s, fl);
+      detail::near_kernel(s, nlst);
+      tot_cells += static_cast<double>(cl.n) * static_cast<double>(ns);
+      tot_parts += static_cast<double>(fl.n + nlst.n) * static_cast<double>(ns);
+      for (std::size_t k = 0; k < ns; ++k) {
+        const std::uint32_t i = perm_[g.start + k];
+        acc[i] = Vec3(facc * s.ax[k], facc * s.ay[k], facc * s.az[k]);
+        if (pot) (*pot)[i] = fpot * s.pot[k];
+      }
+    }
+  }
+  stats_.cell_interactions = tot_cells / static_cast<double>(n);
+  stats_.particle_interactions = tot_parts / static_cast<double>(n);
+}
+
+}  // namespace ssdem
