@@ -51,13 +51,13 @@ void check_input_particles(const ParticleSnapshot& s, const std::string& file) {
   check_range(s.size, 3, false, 0, kMaxLength, file, "/particles/size", "m");
 }
 
-void check_input_spheres(const SphereSet& s, const std::string& file) {
+void check_input_spheres(const SphereSet& s, const std::string& file, const std::string& group) {
   using namespace bounds;
-  check_range(s.position, 3, false, -kMaxLength, kMaxLength, file, "/spheres/position", "m");
-  check_range(s.velocity, 3, true, 0, kMaxSpeed, file, "/spheres/velocity", "m/s");
-  check_range(s.spin, 3, true, 0, kMaxAngularVelocity, file, "/spheres/spin", "rad/s");
-  check_range(s.mass, 1, false, 0, kMaxMass, file, "/spheres/mass", "kg");
-  check_range(s.radius, 1, false, 0, kMaxLength, file, "/spheres/radius", "m");
+  check_range(s.position, 3, false, -kMaxLength, kMaxLength, file, group + "position", "m");
+  check_range(s.velocity, 3, true, 0, kMaxSpeed, file, group + "velocity", "m/s");
+  check_range(s.spin, 3, true, 0, kMaxAngularVelocity, file, group + "spin", "rad/s");
+  check_range(s.mass, 1, false, 0, kMaxMass, file, group + "mass", "kg");
+  check_range(s.radius, 1, false, 0, kMaxLength, file, group + "radius", "m");
 }
 
 void require_finite(const double* data, std::size_t n, const std::string& what, const std::string& name) {

@@ -13,7 +13,6 @@
 #include "common/status.hpp"
 #include "handoff/conserving.hpp"
 #include "handoff/outflow.hpp"
-#include "handoff/ss_format.hpp"
 
 namespace handoff {
 
@@ -143,7 +142,7 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
     write_audit_h5(f, a);
   });
   if (!cfg.ss_path.empty())
-    write_ss(cfg.ss_path, out.result.spheres, cfg.ss_units == SsUnitSystem::si ? SsUnits::si() : SsUnits::pkdgrav(), cfg.ss_color);
+    common::write_ss(cfg.ss_path, out.result.spheres, common::SsUnits::of(cfg.ss_units), cfg.ss_color);
   spdlog::info("wrote {} spheres to {} (audit {})", out.result.spheres.count(), cfg.output, cfg.audit_json);
   return 0;
 }

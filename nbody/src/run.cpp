@@ -93,7 +93,7 @@ std::string cadence_report(const Simulation& sim) {
 int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
   // Identity of this run, recorded in its checkpoints: --restart refuses another run's. Keys a
   // restart may change: time.end and every output.* key.
-  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file"});
+  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file", "initial.ss"});
   // The run locks output.directory and writes into a staging directory published when it
   // completes (common/run_dir.hpp); a restart continues in the staging directory of the
   // interrupted run whose checkpoint it reads, if the checkpoint lies in one.

@@ -9,6 +9,7 @@
 #include "common/finite.hpp"
 #include "common/rng.hpp"
 #include "common/sphere_file.hpp"
+#include "common/ss_file.hpp"
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
@@ -17,8 +18,9 @@
 namespace ssdem {
 namespace {
 
-enum class InitialSource { file, lattice_pile, random_pile, two_bodies };
+enum class InitialSource { file, ss, lattice_pile, random_pile, two_bodies };
 constexpr std::array kInitialSources{common::Choice{"file", InitialSource::file},
+                                     common::Choice{"ss", InitialSource::ss},
                                      common::Choice{"lattice_pile", InitialSource::lattice_pile},
                                      common::Choice{"random_pile", InitialSource::random_pile},
                                      common::Choice{"two_bodies", InitialSource::two_bodies}};
@@ -62,8 +64,12 @@ common::Schema ssdem_schema() {
              "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
   // initial condition
   s.add_choice("initial.source", InitialSource::lattice_pile, kInitialSources,
-               "initial condition: an ssdem.spheres file or a generator");
+               "initial condition: an ssdem.spheres file, a pkdgrav .ss file or a generator");
   s.add_string("initial.file", std::string(""), "ssdem.spheres input file (initial.source = file)");
+  s.add_string("initial.ss", std::string(""),
+               "pkdgrav .ss input file, standard records; ids from org_idx (initial.source = ss)");
+  s.add_choice("initial.ss_units", common::SsUnitSystem::pkdgrav, common::kSsUnitSystems,
+               "units of the .ss file (pkdgrav: G = 1, AU, M_sun, time yr/(2 pi); si: m, kg, s)");
   s.add_real("initial.body_radius", 10.0, "m", 0.0, kLen,
              "radius of the (first) body (generated spheres: about 0.74 (body_radius / sphere_radius)^3, at most 1e8)", true);
   s.add_real("initial.sphere_radius", 1.0, "m", 0.0, kLen, "sphere radius of generated bodies", true);
@@ -165,11 +171,17 @@ std::string fmt_g(double v) {
 Spheres initial_spheres(const common::Scene& sc) {
   const InitialSource src = sc.choice("initial.source", kInitialSources);
   Spheres sp;
-  if (src == InitialSource::file) {
-    const std::string f = sc.string("initial.file");
-    if (f.empty()) throw common::InputError(sc.where("initial.file") + ": required for source = file");
-    const common::SphereSet in = common::read_sphere_set(f);
-    common::check_input_spheres(in, f);
+  if (src == InitialSource::file || src == InitialSource::ss) {
+    // an ssdem.spheres file (initial.file) or a pkdgrav .ss file (initial.ss, common/ss_file.hpp)
+    const bool ss = src == InitialSource::ss;
+    const std::string key = ss ? "initial.ss" : "initial.file";
+    const std::string f = sc.string(key);
+    if (f.empty())
+      throw common::InputError(sc.where(key) + ": required for source = " + std::string(common::choice_name(kInitialSources, src)));
+    const common::SphereSet in =
+        ss ? common::read_ss(f, common::SsUnits::of(sc.choice("initial.ss_units", common::kSsUnitSystems)))
+           : common::read_sphere_set(f);
+    common::check_input_spheres(in, f, ss ? "" : "/spheres/");  // .ss: bounds on the SI values, fields unprefixed
     sp = from_sphere_set(in);
     if (sp.size() == 0) throw common::InputError(f + ": no spheres");
     return sp;

@@ -218,7 +218,7 @@ TEST(CliTools, HelpParamsListsKeysWithTypeDefaultUnitAndRange) {
             std::string::npos);
   // physical bounds that keep every derived quantity finite (common/finite.hpp)
   EXPECT_NE(r.out.find("initial.density  (real)  default 2000  [kg/m^3]\n    range: (0, 100000]\n"), std::string::npos);
-  EXPECT_NE(r.out.find("initial.source  (choice)  default \"lattice_pile\"\n    one of: file lattice_pile "
+  EXPECT_NE(r.out.find("initial.source  (choice)  default \"lattice_pile\"\n    one of: file ss lattice_pile "
                        "random_pile two_bodies\n"),
             std::string::npos);
   EXPECT_NE(r.out.find("output.series_every  (integer)  default 100  [1]\n"), std::string::npos);

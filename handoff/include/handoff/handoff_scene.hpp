@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/schema.hpp"
+#include "common/ss_file.hpp"
 #include "handoff/projection.hpp"
 #include "handoff/selection.hpp"
 
@@ -15,10 +16,9 @@ enum class HandoffMethod { paper, conserving };
 inline constexpr std::array kHandoffMethods{common::Choice{"paper", HandoffMethod::paper},
                                             common::Choice{"conserving", HandoffMethod::conserving}};
 
-/// Units of the exported pkdgrav .ss file (key `export.ss_units`).
-enum class SsUnitSystem { pkdgrav, si };
-inline constexpr std::array kSsUnitSystems{common::Choice{"pkdgrav", SsUnitSystem::pkdgrav},
-                                           common::Choice{"si", SsUnitSystem::si}};
+/// Units of the exported pkdgrav .ss file (key `export.ss_units`; common/ss_file.hpp).
+using common::kSsUnitSystems;
+using common::SsUnitSystem;
 
 /// The one schema: validates scene files, prints --help-params.
 common::Schema handoff_schema();

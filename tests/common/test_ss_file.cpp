@@ -1,14 +1,14 @@
-/// @file test_ss.cpp
-/// pkdgrav .ss export: byte layout, round trip, and malformed files.
+/// @file test_ss_file.cpp
+/// pkdgrav .ss files (common/ss_file.hpp): byte layout, round trip, and malformed files.
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
 #include "common/status.hpp"
-#include "handoff/ss_format.hpp"
+#include "common/ss_file.hpp"
 
-using namespace handoff;
+using namespace common;
 
 namespace {
 struct Tmp {
