@@ -46,31 +46,35 @@ std::string snap_name(const std::string& dir, std::int64_t step) {
 }
 
 // series.csv: one row per output step (diagnostics at a gravity-block boundary).
+common::SeriesFormat series_format() {
+  return common::SeriesFormat({{"step", ""},
+                               {"time_s", "s"},
+                               {"kinetic_J", "J"},
+                               {"rotational_J", "J"},
+                               {"potential_self_J", "J"},
+                               {"potential_uniform_J", "J"},
+                               {"elastic_J", "J"},
+                               {"total_J", "J"},
+                               {"px_kgm_s", "kg m/s"},
+                               {"py_kgm_s", "kg m/s"},
+                               {"pz_kgm_s", "kg m/s"},
+                               {"Lx_kgm2_s", "kg m^2/s"},
+                               {"Ly_kgm2_s", "kg m^2/s"},
+                               {"Lz_kgm2_s", "kg m^2/s"},
+                               {"contacts", ""},
+                               {"wall_contacts", ""},
+                               {"max_overlap_frac", "1"},
+                               {"wall_s", "s"}},
+                              {.precision = 17});
+}
 // With bonds, four more columns (bonds.hpp): the energy stored in intact bonds (part of
 // elastic_J), the stored energy of the bonds broken so far (it has left total_J, so
 // total_J + bond_released_J is what an undamped run conserves), intact and broken counts.
 // Without bonds the series is as before (no bond columns).
 common::SeriesFormat series_format(bool bonds) {
-  std::vector<common::SeriesColumn> c{{"step", ""},
-                                      {"time_s", "s"},
-                                      {"kinetic_J", "J"},
-                                      {"rotational_J", "J"},
-                                      {"potential_self_J", "J"},
-                                      {"potential_uniform_J", "J"},
-                                      {"elastic_J", "J"},
-                                      {"total_J", "J"},
-                                      {"px_kgm_s", "kg m/s"},
-                                      {"py_kgm_s", "kg m/s"},
-                                      {"pz_kgm_s", "kg m/s"},
-                                      {"Lx_kgm2_s", "kg m^2/s"},
-                                      {"Ly_kgm2_s", "kg m^2/s"},
-                                      {"Lz_kgm2_s", "kg m^2/s"},
-                                      {"contacts", ""},
-                                      {"wall_contacts", ""},
-                                      {"max_overlap_frac", "1"},
-                                      {"wall_s", "s"}};
-  if (bonds)
-    c.insert(c.end(), {{"bond_elastic_J", "J"}, {"bond_released_J", "J"}, {"bonds_intact", ""}, {"bonds_broken", ""}});
+  if (!bonds) return series_format();
+  std::vector<common::SeriesColumn> c = series_format().columns();
+  c.insert(c.end(), {{"bond_elastic_J", "J"}, {"bond_released_J", "J"}, {"bonds_intact", ""}, {"bonds_broken", ""}});
   return common::SeriesFormat(std::move(c), {.precision = 17});
 }
 std::string cadence_text(const SimConfig& c) {

@@ -12,7 +12,7 @@ the strengths sigma_c = tau_c are the study's variable (scaled by the damage law
 
 usage: bonds_study.py FAMILY RUN_DIR OUT_DIR BUILD_DIR [--variants a,b,...] [--cost-rounds K]
   FAMILY: paper (the demo impact, pipelines/impact/reaccumulate.toml) or dart (dart/reaccumulate.toml)
-Every tool run is wrapped in `flock $SUITE_LOCK` when SUITE_LOCK is set (shared machines).
+With SUITE_LOCK set (shared machines), each variant and each cost run holds that lock file (flock).
 """
 import argparse
 import csv
@@ -38,28 +38,44 @@ FAMILIES = {
     "paper": dict(scene="pipelines/impact/reaccumulate.toml", coarsen=3, radius=12500.0, end=3600.0,
                   times=[60.0, 150.0, 300.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0],
                   nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4"],
-                  handoff_sets=[], cohesion=1e5),
+                  handoff_sets=[], cohesion=1e5, sigma=(1e6, 1e7)),
     "dart": dict(scene="pipelines/impact/dart/reaccumulate.toml", coarsen=2, radius=80.0, end=1800.0,
                  times=[30.0, 60.0, 150.0, 300.0, 900.0, 1800.0],
                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4"],
-                 handoff_sets=["select.max_speed=1000"], cohesion=5.0),
+                 handoff_sets=["select.max_speed=1000"], cohesion=5.0, sigma=(1e4, 1e5)),
 }
 
-# name: (bonds: None or (damage_critical, sigma_c [Pa]), cohesion on)
+# name: (bonds: None or (damage_critical, index of the family's strength sigma_c = tau_c: 0 low, 1 high),
+#        cohesion on)
 VARIANTS = {
     "base": (None, False),
-    "bonds-Dc0.125-10MPa": ((0.125, 1e7), False),
-    "bonds-Dc1-1MPa": ((1.0, 1e6), False),
-    "bonds-Dc1-10MPa": ((1.0, 1e7), False),
+    "bonds-Dc0.125-hi": ((0.125, 1), False),
+    "bonds-Dc1-lo": ((1.0, 0), False),
+    "bonds-Dc1-hi": ((1.0, 1), False),
     "coh": (None, True),
-    "bonds-Dc1-10MPa+coh": ((1.0, 1e7), True),
+    "bonds-Dc1-hi+coh": ((1.0, 1), True),
 }
 PARTS_COH = "normal,damping,tangential,rolling,twisting,cohesion"
 
 
+class Lock:
+    """flock on $SUITE_LOCK around a block (nothing when it is not set)."""
+
+    def __enter__(self):
+        import fcntl
+        path = os.environ.get("SUITE_LOCK")
+        self.f = open(path, "a") if path else None
+        if self.f:
+            fcntl.flock(self.f, fcntl.LOCK_EX)
+        return self
+
+    def __exit__(self, *exc):
+        if self.f:
+            self.f.close()
+
+
 def tool(args, log=None, threads=2):
-    lock = os.environ.get("SUITE_LOCK")
-    cmd = (["flock", lock] if lock else []) + [str(a) for a in args]
+    cmd = [str(a) for a in args]
     env = dict(os.environ, OMP_NUM_THREADS=str(threads))
     t0 = time.perf_counter()
     r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -166,19 +182,21 @@ def main():
         os.makedirs(vdir, exist_ok=True)
         bond = None
         if bond_cfg:
-            bond = (bond_cfg[0], bond_cfg[1], kn_bond)
+            bond = (bond_cfg[0], fam["sigma"][bond_cfg[1]], kn_bond)
+        lock = Lock().__enter__()
         sph = handoff(a.build, fam, frag, vdir, bond)
         with h5py.File(sph, "r") as f:
             nsph = f["spheres/id"].shape[0]
             r = float(f["spheres/radius"][0])
             nbonds = f["bonds/id_a"].shape[0] if "bonds" in f else 0
-            mean_f = float(np.mean(f["bonds/sigma_c"][:])) / bond_cfg[1] if nbonds else float("nan")
+            mean_f = float(np.mean(f["bonds/sigma_c"][:])) / bond[1] if nbonds else float("nan")
         nb, wall, steps, phases = nbody(a.build, fam, sph, vdir, coh)
         if name == "base":
             kn_bond = contact_kn(nb) / (math.pi * r * r)  # k_n A = contact k_n
         final, t, esc = analyse(a.build, fam, frag, vdir, sph, nb)
+        lock.__exit__()
         st, br, nb0, rel, tot = read_series(nb)
-        res[name] = dict(spheres=nsph, bonds=nbonds, mean_factor=mean_f, steps=steps, wall=wall,
+        res[name] = dict(spheres=nsph, bonds=nbonds, sigma_c=bond[1] if bond else None, mean_factor=mean_f, steps=steps, wall=wall,
                          us_per_sphere_step=1e6 * phases / (steps * nsph),
                          M_LR_over_M_PB=final["M_LR_over_M_PB"], beta=final["beta"],
                          escaping_fraction=final["escaping_mass_fraction"], t_esc=t.tolist(), esc=esc.tolist(),
@@ -194,13 +212,14 @@ def main():
     bonded = [n for n in names if VARIANTS[n][0] and res[n]["bonds"] > 0 and not VARIANTS[n][1]]
     cost = {}
     if bonded and a.cost_rounds > 0:
-        pick = max(bonded, key=lambda n: VARIANTS[n][0][1])
+        pick = max(bonded, key=lambda n: (VARIANTS[n][0][1], res[n]["bonds"]))
         for rnd in range(a.cost_rounds):
             for name in ("base", pick):
                 vdir = os.path.join(a.out, "cost", name)
                 os.makedirs(vdir, exist_ok=True)
-                nb, wall, steps, phases = nbody(a.build, fam, os.path.join(a.out, name, "spheres.h5"), vdir, False,
-                                                end=a.cost_time, times=[], threads=1)
+                with Lock():
+                    nb, wall, steps, phases = nbody(a.build, fam, os.path.join(a.out, name, "spheres.h5"), vdir, False,
+                                                    end=a.cost_time, times=[], threads=1)
                 cost.setdefault(name, []).append(1e6 * phases / (steps * res[name]["spheres"]))
                 _, br, _, _, _ = read_series(nb)
                 if br is not None:
@@ -218,12 +237,12 @@ def write_table(a, fam, res, names):
     lines = [f"# Bonds and cohesion: {a.family} family ({a.run})", "",
              f"Bond stiffness k_n = {res['_bond_kn']:.4g} N/m^3 (k_n A = the contact k_n), k_s = k_n / 2.5; "
              f"cohesion {fam['cohesion']:g} Pa where on.", "",
-             "| variant | spheres | bonds | mean damage factor | broken at end | released J (/ E0) | M_LR/M_PB | beta | "
-             "escaping mass fraction | steps | wall s |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| variant | spheres | bonds | sigma_c = tau_c [Pa] | mean damage factor | broken at end | released J (/ E0) | M_LR/M_PB | beta | "
+             "escaping mass fraction | steps | wall s |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for n in ["base"] + names:
         r = res[n]
         relf = "" if r["released_J"] is None else f"{r['released_J']:.3g} ({r['released_J'] / abs(r['total0_J']):.2g})"
-        lines.append(f"| {n} | {r['spheres']} | {r['bonds']} | {'' if r['bonds'] == 0 else format(r['mean_factor'], '.3f')} | "
+        lines.append(f"| {n} | {r['spheres']} | {r['bonds']} | {'' if r['sigma_c'] is None else format(r['sigma_c'], 'g')} | {'' if r['bonds'] == 0 else format(r['mean_factor'], '.3f')} | "
                      f"{'' if r['broken_final'] is None else r['broken_final']} | {relf} | {r['M_LR_over_M_PB']:.4f} | "
                      f"{r['beta']:.4f} | {r['escaping_fraction']:.4f} | {r['steps']} | {r['wall']:.1f} |")
     lines += ["", "Escaping mass fraction against time:", "",

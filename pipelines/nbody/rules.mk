@@ -92,7 +92,7 @@ nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense
 # and on interleaved). Writes runs/nbody-bonds-study/<family>/bonds_study.{md,json,png}.
 BONDS_RUN ?= $(RUNS)/demo
 BONDS_DART_RUN ?= $(RUNS)/dart-demo
-BONDS_VARIANTS ?= base,bonds-Dc0.125-10MPa,bonds-Dc1-1MPa,bonds-Dc1-10MPa,coh,bonds-Dc1-10MPa+coh
+BONDS_VARIANTS ?= base,bonds-Dc0.125-hi,bonds-Dc1-lo,bonds-Dc1-hi,coh,bonds-Dc1-hi+coh
 .PHONY: nbody-bonds-study nbody-bonds-study-dart
 nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M_PB, beta, ejecta and broken bonds vs time, cost (~3 min)
 	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines demo first"; exit 1; }
