@@ -109,7 +109,9 @@ def handoff(b, fam, frag, vdir, bond):
     return out
 
 
-def nbody(b, fam, spheres, vdir, coh, end=None, times=None, threads=2):
+def nbody(b, fam, spheres, vdir, coh, end=None, times=None, threads=2, exe=None):
+    """Run ssdem-grav (exe: another binary, e.g. the previous release); returns the output
+    directory, wall seconds, steps, the summed phase seconds and the peak resident set [kB]."""
     out = os.path.join(vdir, "nbody")
     shutil.rmtree(out, ignore_errors=True)
     s = [f'initial.file="{spheres}"', f"time.end={end or fam['end']}",
@@ -117,12 +119,14 @@ def nbody(b, fam, spheres, vdir, coh, end=None, times=None, threads=2):
          "output.checkpoint_wall=0"] + fam["nbody_sets"]
     if coh:
         s += [f'contact.parts="{PARTS_COH}"', f"contact.cohesion.sigma={fam['cohesion']!r}"]
-    wall, text = tool([f"{b}/nbody/ssdem-grav", "--scene", os.path.join(ROOT, fam["scene"])] + sets(s),
-                      log=os.path.join(vdir, "nbody.log"), threads=threads)
+    rss_file = os.path.join(vdir, "nbody.rss")
+    wall, text = tool(["/usr/bin/time", "-f", "%M", "-o", rss_file, exe or f"{b}/nbody/ssdem-grav", "--scene",
+                       os.path.join(ROOT, fam["scene"])] + sets(s), log=os.path.join(vdir, "nbody.log"), threads=threads)
+    rss = int(open(rss_file).read().split()[-1])
     m = re.search(r"done: (\d+) steps; wall s: gravity ([\d.]+) .*neighbours ([\d.]+) .*contacts ([\d.]+), integrate ([\d.]+)", text)
     steps = int(m.group(1))
     phases = sum(float(m.group(i)) for i in range(2, 6))
-    return out, wall, steps, phases
+    return out, wall, steps, phases, rss
 
 
 def analyse(b, fam, frag, vdir, spheres, nb):
@@ -167,6 +171,7 @@ def main():
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--cost-rounds", type=int, default=2)
     ap.add_argument("--cost-time", type=float, default=600.0)
+    ap.add_argument("--old-exe", help="previous ssdem-grav: its bonds-off cost and peak memory beside the new one's")
     a = ap.parse_args()
     fam = FAMILIES[a.family]
     frag = os.path.join(a.run, "fragment")
@@ -190,7 +195,7 @@ def main():
             r = float(f["spheres/radius"][0])
             nbonds = f["bonds/id_a"].shape[0] if "bonds" in f else 0
             mean_f = float(np.mean(f["bonds/sigma_c"][:])) / bond[1] if nbonds else float("nan")
-        nb, wall, steps, phases = nbody(a.build, fam, sph, vdir, coh)
+        nb, wall, steps, phases, _ = nbody(a.build, fam, sph, vdir, coh)
         if name == "base":
             kn_bond = contact_kn(nb) / (math.pi * r * r)  # k_n A = contact k_n
         final, t, esc = analyse(a.build, fam, frag, vdir, sph, nb)
@@ -213,17 +218,20 @@ def main():
     cost = {}
     if bonded and a.cost_rounds > 0:
         pick = max(bonded, key=lambda n: (VARIANTS[n][0][1], res[n]["bonds"]))
+        runs = [("base", None), (pick, None)] + ([("base-old", a.old_exe)] if a.old_exe else [])
         for rnd in range(a.cost_rounds):
-            for name in ("base", pick):
+            for name, exe in runs:
+                src = "base" if name == "base-old" else name
                 vdir = os.path.join(a.out, "cost", name)
                 os.makedirs(vdir, exist_ok=True)
                 with Lock():
-                    nb, wall, steps, phases = nbody(a.build, fam, os.path.join(a.out, name, "spheres.h5"), vdir, False,
-                                                    end=a.cost_time, times=[], threads=1)
-                cost.setdefault(name, []).append(1e6 * phases / (steps * res[name]["spheres"]))
+                    nb, wall, steps, phases, rss = nbody(a.build, fam, os.path.join(a.out, src, "spheres.h5"), vdir,
+                                                         False, end=a.cost_time, times=[], threads=1, exe=exe)
+                cost.setdefault(name, []).append(1e6 * phases / (steps * res[src]["spheres"]))
+                res.setdefault("_rss_kB", {}).setdefault(name, []).append(rss)
                 _, br, _, _, _ = read_series(nb)
                 if br is not None:
-                    res[name]["cost_broken_at_end"] = int(br[-1])
+                    res[src]["cost_broken_at_end"] = int(br[-1])
         res["_cost"] = {k: dict(rounds=v, median=float(np.median(v))) for k, v in cost.items()}
         res["_cost_pick"] = pick
 
@@ -258,6 +266,12 @@ def write_table(a, fam, res, names):
                       f"({', '.join(f'{x:.3f}' for x in c['base']['rounds'])}), with bonds {c[p]['median']:.3f} us "
                       f"({', '.join(f'{x:.3f}' for x in c[p]['rounds'])}); ratio {c[p]['median'] / c['base']['median']:.3f}; "
                       f"{res[p]['bonds']} bonds, {res[p].get('cost_broken_at_end', 0)} broken at the end of the cost run."]
+        rss = res["_rss_kB"]
+        lines += ["", "Peak resident set (kB, per round): " + "; ".join(f"{k} {v}" for k, v in rss.items())]
+        if "base-old" in c:
+            lines += ["", f"No bonds, previous binary (`--old-exe`) interleaved: {c['base-old']['median']:.3f} us "
+                          f"({', '.join(f'{x:.3f}' for x in c['base-old']['rounds'])}); new/old "
+                          f"{c['base']['median'] / c['base-old']['median']:.3f}."]
     with open(os.path.join(a.out, "bonds_study.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
     print("\n".join(lines))

@@ -92,11 +92,14 @@ nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense
 # and on interleaved). Writes runs/nbody-bonds-study/<family>/bonds_study.{md,json,png}.
 BONDS_RUN ?= $(RUNS)/demo
 BONDS_DART_RUN ?= $(RUNS)/dart-demo
+# BONDS_OLD: a previous ssdem-grav, whose bonds-off cost and peak memory are measured interleaved
+# with the new binary's ("no bonds, no cost").
+BONDS_OLD ?=
 BONDS_VARIANTS ?= base,bonds-Dc0.125-hi,bonds-Dc1-lo,bonds-Dc1-hi,coh,bonds-Dc1-hi+coh
 .PHONY: nbody-bonds-study nbody-bonds-study-dart
 nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M_PB, beta, ejecta and broken bonds vs time, cost (~3 min)
 	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines demo first"; exit 1; }
-	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(RUNS)/nbody-bonds-study/paper $(BUILD) --variants $(BONDS_VARIANTS)
+	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(RUNS)/nbody-bonds-study/paper $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
 nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's MPM output; ~15 min)
 	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
-	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS)
+	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
