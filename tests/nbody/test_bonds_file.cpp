@@ -229,3 +229,29 @@ TEST(BondsFromFile, NoBondsNoArraysNoCost) {
   EXPECT_DOUBLE_EQ(on->bytes_per_sphere() - none->bytes_per_sphere(), 153.0 / 2.0);
   fs::remove_all(d);
 }
+
+// A run whose bonds came from its input file, stopped while the bond is intact and continued from
+// its checkpoint, ends bit-identical to the uninterrupted run (bond state from /ssdem_state/bonds,
+// dt from the checkpoint: no "differ from the checkpoint" warning).
+TEST(BondsFromFile, RestartWithFileBondsIsBitIdentical) {
+  const std::string d = tmpdir("restart");
+  common::write_sphere_set(d + "/in.h5", pair_with_bond(), {"t", "0", "x", "t", ""});
+  std::ofstream(d + "/s.toml") << kPairScene;
+  const std::string base = "--scene " + d + "/s.toml --set initial.file=\\\"" + d + "/in.h5\\\"";
+  ASSERT_EQ(run_capture(base + " --set output.directory=\\\"" + d + "/full\\\"", d).first, 0);
+  ASSERT_EQ(run_capture(base + " --set output.directory=\\\"" + d + "/part\\\" --set time.end=0.02", d).first, 0);
+  const auto [rc, log] = run_capture(base + " --set output.directory=\\\"" + d + "/part\\\" --restart " + d +
+                                         "/part/checkpoint.h5",
+                                     d);
+  ASSERT_EQ(rc, 0) << log;
+  EXPECT_EQ(log.find("differ from the checkpoint"), std::string::npos) << log;
+  const common::SphereSet a = common::read_sphere_set(d + "/full/snap_000010000.h5");
+  const common::SphereSet b = common::read_sphere_set(d + "/part/snap_000010000.h5");
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_EQ(a.velocity, b.velocity);
+  EXPECT_EQ(b.bonds.broken, std::vector<double>{1.0});
+  const auto ra = csv(d + "/full/series.csv"), rb = csv(d + "/part/series.csv");
+  const std::size_t rel = col(ra[0], "bond_released_J");
+  EXPECT_EQ(ra.back()[rel], rb.back()[rel]);
+  fs::remove_all(d);
+}
