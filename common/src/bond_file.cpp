@@ -14,14 +14,7 @@ namespace common {
 
 void BondTable::add(std::uint64_t a, std::uint64_t b, double kn_, double ks_, double sc, double tc, double rb,
                     double L0) {
-  id_a.push_back(a);
-  id_b.push_back(b);
-  kn.push_back(kn_);
-  ks.push_back(ks_);
-  sigma_c.push_back(sc);
-  tau_c.push_back(tc);
-  radius.push_back(rb);
-  length0.push_back(L0);
+  push_bond_columns(*this, a, b, kn_, ks_, sc, tc, rb, L0);
 }
 
 namespace {
