@@ -8,6 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
+#include "common/bond_columns.hpp"
 #include "common/status.hpp"
 
 namespace common {

@@ -7,7 +7,7 @@
 #include <sstream>
 #include <unordered_map>
 
-#include "common/bond_file.hpp"
+#include "common/bond_columns.hpp"
 #include "common/status.hpp"
 #include "ssdem/contact/part.hpp"
 

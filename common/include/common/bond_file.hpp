@@ -46,21 +46,6 @@ inline constexpr BondColumn kBondTauC{"tau_c", "Pa", 0.0, 1e300, false};
 inline constexpr BondColumn kBondRadius{"radius", "m", 0.0, 1e12, true};
 inline constexpr BondColumn kBondLength0{"length0", "m", 0.0, 1e12, true};
 
-/// Append one bond's ids and constant columns to any structure of arrays with these members
-/// (BondTable here, ssdem::BondSet with its dynamic state in nbody).
-template <class T>
-void push_bond_columns(T& t, std::uint64_t a, std::uint64_t b, double kn, double ks, double sc, double tc, double rb,
-                       double L0) {
-  t.id_a.push_back(a);
-  t.id_b.push_back(b);
-  t.kn.push_back(kn);
-  t.ks.push_back(ks);
-  t.sigma_c.push_back(sc);
-  t.tau_c.push_back(tc);
-  t.radius.push_back(rb);
-  t.length0.push_back(L0);
-}
-
 /// Bonds of a sphere file (structure of arrays; empty = no /bonds group).
 struct BondTable {
   std::vector<std::uint64_t> id_a, id_b;
