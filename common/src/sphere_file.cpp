@@ -32,6 +32,7 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
             [&](const SphereArray& a, const auto& v) { h5::write_dataset(g, a.name, v.data(), n, a.width, a.unit); });
         write_fields(g, s.fields, n);
       }
+      if (!s.bonds.empty()) write_bonds(f, s.bonds, s.id);
       h5::write_provenance(f, prov);
       if (extra) extra(f);
       h5::save_file(f, out.temp_path(), path);
@@ -47,7 +48,19 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
       grid.attributes.push_back({a.name, h5path, a.width, a.scalar == SphereScalar::UInt64 ? "UInt" : "Float", 8});
   });
   for (auto& a : field_attributes("/spheres", s.fields)) grid.attributes.push_back(a);
-  write_xdmf(xdmf_path_for(path), {grid});
+  if (s.bonds.empty()) {
+    write_xdmf(xdmf_path_for(path), {grid});
+    return;
+  }
+  // bonds as lines between the sphere positions (bond_file.hpp)
+  XdmfGrid lines{"bonds", s.time, n, grid.h5file, grid.position_path, {}};
+  lines.connectivity_path = "/bonds/sphere_index";
+  lines.elements = s.bonds.size();
+  BondTable::zip_columns([&](const BondColumn& c, const std::vector<double>&) {
+    lines.attributes.push_back({c.name, std::string("/bonds/") + c.name, 1, "Float", 8, "Cell"});
+  }, s.bonds);
+  if (!s.bonds.broken.empty()) lines.attributes.push_back({"broken", "/bonds/broken", 1, "Float", 8, "Cell"});
+  write_text_atomic(xdmf_path_for(path), xdmf_text_spatial("spheres_and_bonds", {grid, lines}));
 }
 
 SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
@@ -74,6 +87,7 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
       check_values(path, "/spheres/" + core.back(), v, a.width, a.positive);
   });
   s.fields = read_fields(f, g, "/spheres", path, s.id.size(), core);
+  s.bonds = read_bonds(f, path, s.id);
   if (extra) extra(f);
   return s;
 }

@@ -42,17 +42,27 @@ void write_grid(std::ostringstream& o, const XdmfGrid& g, const std::string& ind
   const std::string file = xml_escape(g.h5file);
   o << indent << "<Grid Name=\"" << xml_escape(g.name) << "\" GridType=\"Uniform\">\n";
   o << indent << " <Time Value=\"" << g.time << "\"/>\n";
-  o << indent << " <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << g.count
-    << "\" NodesPerElement=\"1\"/>\n";
+  const bool lines = !g.connectivity_path.empty();
+  const std::size_t cells = lines ? g.elements : g.count;
+  if (lines) {
+    o << indent << " <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << g.elements
+      << "\" NodesPerElement=\"2\">\n";
+    o << indent << "  <DataItem Format=\"HDF\" NumberType=\"UInt\" Precision=\"8\" Dimensions=\""
+      << dims(g.elements, 2) << "\">" << file << ":" << xml_escape(g.connectivity_path) << "</DataItem>\n";
+    o << indent << " </Topology>\n";
+  } else {
+    o << indent << " <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << g.count
+      << "\" NodesPerElement=\"1\"/>\n";
+  }
   o << indent << " <Geometry GeometryType=\"XYZ\">\n";
   o << indent << "  <DataItem Format=\"HDF\" NumberType=\"Float\" Precision=\"8\" Dimensions=\""
     << dims(g.count, 3) << "\">" << file << ":" << xml_escape(g.position_path) << "</DataItem>\n";
   o << indent << " </Geometry>\n";
   for (const auto& a : g.attributes) {
     o << indent << " <Attribute Name=\"" << xml_escape(a.name) << "\" AttributeType=\""
-      << attribute_type(a.ncomp) << "\" Center=\"Node\">\n";
+      << attribute_type(a.ncomp) << "\" Center=\"" << a.center << "\">\n";
     o << indent << "  <DataItem Format=\"HDF\" NumberType=\"" << a.number_type << "\" Precision=\""
-      << a.precision << "\" Dimensions=\"" << dims(g.count, a.ncomp) << "\">" << file << ":"
+      << a.precision << "\" Dimensions=\"" << dims(a.center == "Cell" ? cells : g.count, a.ncomp) << "\">" << file << ":"
       << xml_escape(a.h5path) << "</DataItem>\n";
     o << indent << " </Attribute>\n";
   }
@@ -73,6 +83,17 @@ std::string xdmf_text(const std::vector<XdmfGrid>& grids) {
     o << "  </Grid>\n";
   }
   o << " </Domain>\n</Xdmf>\n";
+  return o.str();
+}
+
+std::string xdmf_text_spatial(const std::string& name, const std::vector<XdmfGrid>& grids) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "<?xml version=\"1.0\" ?>\n<!DOCTYPE Xdmf SYSTEM \"Xdmf.dtd\" []>\n";
+  o << "<Xdmf Version=\"3.0\">\n <Domain>\n";
+  o << "  <Grid Name=\"" << xml_escape(name) << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n";
+  for (const auto& g : grids) write_grid(o, g, "   ");
+  o << "  </Grid>\n </Domain>\n</Xdmf>\n";
   return o.str();
 }
 

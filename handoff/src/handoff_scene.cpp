@@ -33,6 +33,20 @@ common::Schema handoff_schema() {
   s.add_string("export.ss", std::string(""), "also write a pkdgrav .ss file here (empty: none)");
   s.add_choice("export.ss_units", SsUnitSystem::pkdgrav, kSsUnitSystems, "units of the .ss file (pkdgrav: G = 1, AU, M_sun)");
   s.add_int("export.ss_color", 3, 0, 255, "pkdgrav colour code written for every sphere");
+  // bonds between face-adjacent spheres, scaled by damage (face_bonds.hpp); key names as in ssdem-grav
+  s.add_bool("bonds.enabled", false,
+             "write /bonds: a parallel bond between the spheres of every pair of face-adjacent cells with "
+             "max damage < bonds.damage_critical, stiffness and strength x (1 - D / D_c)");
+  s.add_real("bonds.kn", 0.0, "N/m^3", 0.0, 1e30,
+             "intact bond normal stiffness per unit area (E = kn L0 of the equivalent beam; > 0 with bonds.enabled)");
+  s.add_real("bonds.ks", 0.0, "N/m^3", 0.0, 1e30, "intact bond shear stiffness per unit area");
+  s.add_real("bonds.sigma_c", 1e300, "Pa", 0.0, 1e300, "intact bond tensile strength");
+  s.add_real("bonds.tau_c", 1e300, "Pa", 0.0, 1e300, "intact bond shear strength");
+  s.add_real("bonds.radius_ratio", 1.0, "1", 0.0, 10.0, "bond radius / sphere radius", true);
+  s.add_real("bonds.damage_critical", 0.125, "1", 0.0, 1.0,
+             "D_c: no bond where the larger damage of the two spheres is >= D_c; factor 1 - D/D_c below "
+             "(default: Tonge-Ramesh basalt's critical damage, El Mir et al. 2019 Table 1, beyond which the "
+             "material flows as a granular medium)", true);
   return s;
 }
 
@@ -66,6 +80,15 @@ HandoffConfig handoff_config(const common::Scene& sc) {
   c.ss_path = sc.string("export.ss");
   c.ss_units = sc.choice("export.ss_units", kSsUnitSystems);
   c.ss_color = static_cast<int>(sc.integer("export.ss_color"));
+  c.bonds.enabled = sc.boolean("bonds.enabled");
+  c.bonds.kn = sc.real("bonds.kn");
+  c.bonds.ks = sc.real("bonds.ks");
+  c.bonds.sigma_c = sc.real("bonds.sigma_c");
+  c.bonds.tau_c = sc.real("bonds.tau_c");
+  c.bonds.radius_ratio = sc.real("bonds.radius_ratio");
+  c.bonds.damage_critical = sc.real("bonds.damage_critical");
+  if (c.bonds.enabled && !(c.bonds.kn > 0.0))
+    throw common::InputError(sc.source(), "bonds.kn", "must be > 0 when bonds.enabled = true (range (0, 1e30] N/m^3)");
   return c;
 }
 

@@ -88,6 +88,7 @@ HandoffOutcome hand_off(const common::ParticleSnapshot& snap, const HandoffConfi
     a.exact = cr.exact;
     a.note = cr.exact ? "lambda = " + std::to_string(cr.lambda) : cr.note;
   }
+  if (cfg.bonds.enabled) sph.bonds = face_bonds(sph, cfg.bonds, cfg.input);
   a.after = compute_invariants(sph.count(), sph.position.data(), sph.velocity.data(), sph.mass.data(),
                                sph.spin.data(), sph.radius.data());
   a.occupied_mpm_cells = out.result.occupied_mpm_cells;
@@ -139,11 +140,18 @@ int run_handoff(const HandoffConfig& cfg, const common::Provenance& prov) {
     h5::write_attr(g, "method", a.method);
     h5::write_attr(g, "coarsen", static_cast<std::int64_t>(cfg.projection.coarsen));
     h5::write_attr(g, "kernels", out.result.kernels);  // "avx2" or "portable": same results, bit for bit
+    if (cfg.bonds.enabled) {  // the bond law's inputs (face_bonds.hpp); the bonds are in /bonds
+      h5::write_attr(g, "bonds_damage_law", std::string("f = 1 - max(D_a, D_b) / D_c, none for D >= D_c"));
+      h5::write_attr(g, "bonds_damage_critical", cfg.bonds.damage_critical);
+      h5::write_attr(g, "bonds_count", static_cast<std::int64_t>(out.result.spheres.bonds.size()));
+    }
     write_audit_h5(f, a);
   });
   if (!cfg.ss_path.empty())
     common::write_ss(cfg.ss_path, out.result.spheres, common::SsUnits::of(cfg.ss_units), cfg.ss_color);
-  spdlog::info("wrote {} spheres to {} (audit {})", out.result.spheres.count(), cfg.output, cfg.audit_json);
+  spdlog::info("wrote {} spheres{} to {} (audit {})", out.result.spheres.count(),
+               cfg.bonds.enabled ? " and " + std::to_string(out.result.spheres.bonds.size()) + " bonds" : std::string(),
+               cfg.output, cfg.audit_json);
   return 0;
 }
 

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <unordered_map>
 
+#include "common/bond_columns.hpp"
 #include "common/status.hpp"
 #include "ssdem/contact/part.hpp"
 
@@ -23,14 +24,7 @@ Section section(double rb) {
 
 void BondSet::add(std::uint64_t a, std::uint64_t b, double kn_, double ks_, double sc, double tc,
                   double rb, double L0, const Vec3& n0) {
-  id_a.push_back(a);
-  id_b.push_back(b);
-  kn.push_back(kn_);
-  ks.push_back(ks_);
-  sigma_c.push_back(sc);
-  tau_c.push_back(tc);
-  radius.push_back(rb);
-  length0.push_back(L0);
+  common::push_bond_columns(*this, a, b, kn_, ks_, sc, tc, rb, L0);
   broken.push_back(0);
   Fs.push_back(Vec3::Zero());
   Mb.push_back(Vec3::Zero());

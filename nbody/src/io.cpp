@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
+#include <unordered_map>
 
 #include "common/finite.hpp"
 #include "common/h5.hpp"
@@ -89,9 +90,43 @@ Spheres from_sphere_set(const common::SphereSet& s) {
   return sp;
 }
 
+BondSet from_bond_table(const common::BondTable& t, const Spheres& sp) {
+  BondSet b;
+  if (t.empty()) return b;
+  std::unordered_map<std::uint64_t, std::size_t> row;
+  row.reserve(2 * sp.size());
+  for (std::size_t i = 0; i < sp.size(); ++i) row.emplace(sp.id[i], i);
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const auto a = row.find(t.id_a[k]), c = row.find(t.id_b[k]);
+    if (a == row.end() || c == row.end())
+      throw common::InputError("bond " + std::to_string(k) + " names a sphere id that is not in the sphere set");
+    const Vec3 r = sp.x[c->second] - sp.x[a->second];
+    const double d = r.norm();
+    b.add(t.id_a[k], t.id_b[k], t.kn[k], t.ks[k], t.sigma_c[k], t.tau_c[k], t.radius[k], t.length0[k],
+          d > 0.0 ? Vec3(r / d) : Vec3(Vec3::UnitX()));
+    if (!t.broken.empty() && t.broken[k] != 0.0) b.broken.back() = 1;
+  }
+  return b;
+}
+
+common::BondTable to_bond_table(const BondSet& b) {
+  common::BondTable t;
+  t.id_a = b.id_a;
+  t.id_b = b.id_b;
+  t.kn = b.kn;
+  t.ks = b.ks;
+  t.sigma_c = b.sigma_c;
+  t.tau_c = b.tau_c;
+  t.radius = b.radius;
+  t.length0 = b.length0;
+  t.broken.assign(b.broken.begin(), b.broken.end());
+  return t;
+}
+
 void write_snapshot(const std::string& path, const Spheres& sp, double time, std::int64_t step,
-                    const common::Provenance& prov) {
-  const common::SphereSet set = to_sphere_set(sp, time, step);
+                    const common::Provenance& prov, const BondSet* bonds) {
+  common::SphereSet set = to_sphere_set(sp, time, step);
+  if (bonds && !bonds->empty()) set.bonds = to_bond_table(*bonds);
   common::check_output_spheres(set, path);  // never Inf/NaN in an output: NumericalError (exit 3)
   common::write_sphere_set(path, set, prov);
 }

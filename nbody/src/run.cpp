@@ -67,6 +67,16 @@ common::SeriesFormat series_format() {
                                {"wall_s", "s"}},
                               {.precision = 17});
 }
+// With bonds, four more columns (bonds.hpp): the energy stored in intact bonds (part of
+// elastic_J), the stored energy of the bonds broken so far (it has left total_J, so
+// total_J + bond_released_J is what an undamped run conserves), intact and broken counts.
+// Without bonds the series is as before (no bond columns).
+common::SeriesFormat series_format(bool bonds) {
+  if (!bonds) return series_format();
+  std::vector<common::SeriesColumn> c = series_format().columns();
+  c.insert(c.end(), {{"bond_elastic_J", "J"}, {"bond_released_J", "J"}, {"bonds_intact", ""}, {"bonds_broken", ""}});
+  return common::SeriesFormat(std::move(c), {.precision = 17});
+}
 std::string cadence_text(const SimConfig& c) {
   std::ostringstream os;
   if (c.adaptive_gravity)
@@ -88,6 +98,18 @@ std::string cadence_report(const Simulation& sim) {
        << ", largest of one sphere " << c.max_change_one << "; estimated force error <= half of it)";
   return os.str();
 }
+// Bonds at the end of the run: counts and energies (the broken bonds' stored energy is reported,
+// not lost: bonds.hpp).
+std::string bond_report(const Simulation& sim) {
+  const BondSystem& b = *sim.bond_system();
+  const std::size_t n = b.bonds().size(), broken = b.broken_count();
+  std::ostringstream os;
+  os.precision(6);
+  os << "bonds: " << n << " in all, " << broken << " broken, " << n - broken << " intact; stored in intact bonds "
+     << b.elastic_energy(sim.spheres()) << " J; stored energy of the broken bonds (released, left total_J) "
+     << b.released_energy() << " J";
+  return os.str();
+}
 }  // namespace
 
 int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
@@ -105,8 +127,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   std::unique_ptr<Simulation> sim;
   std::string info;
   if (restart.empty()) {
-    Spheres sp = initial_spheres(sc);
-    const SimConfig cfg = sim_config(sc, sp, &info);
+    BondSet file_bonds;
+    Spheres sp = initial_spheres(sc, &file_bonds);
+    const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
     sim = std::make_unique<Simulation>(std::move(sp), cfg);
   } else {
     double dt0 = 0, kn0 = 0;
@@ -132,7 +155,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         if (s >= 0 && s <= st.step) rd.carry(n);
       }
     }
-    SimConfig cfg = sim_config(sc, st.sp, &info);
+    // the checkpoint's bonds in place of the file's, so that the dt rule sees what the run started with
+    SimConfig cfg = sim_config(sc, st.sp, &info, sc.boolean("bonds.generate") ? nullptr : &st.bonds);
     if (cfg.contacts && kn0 > 0.0 && cfg.contact.kn != kn0) {
       if (sc.given("contact.normal.kn"))
         spdlog::warn("restart: contact.normal.kn = {} differs from the checkpoint's {}; using the "
@@ -187,7 +211,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   // numerical failure (after saving its state) or on a signal (after its checkpoint); a run that
   // fails otherwise leaves an earlier series.csv as it was. A restart continues the series of
   // the run its checkpoint came from, up to the checkpoint's step.
-  common::SeriesFile series_file(series_path, series_format(),
+  const BondSystem* bonds = sim->bond_system();  // null without bonds
+  common::SeriesFile series_file(series_path, series_format(bonds != nullptr),
                                  restart.empty() ? std::nullopt : std::optional(sim->step_count()));
 
   double E0 = NAN;
@@ -203,6 +228,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     row.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
     row.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
     row.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(progress.elapsed());
+    if (bonds) row.num(d.bond_elastic).num(d.bond_released).integer(d.bonds - d.bonds_broken).integer(d.bonds_broken);
     series_file.write(row);
     const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
@@ -220,7 +246,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
 
   if (restart.empty()) {
     write_row();
-    write_snapshot(snap_name(dir, 0), sim->spheres(), sim->time(), 0, prov);
+    write_snapshot(snap_name(dir, 0), sim->spheres(), sim->time(), 0, prov, bonds ? &bonds->bonds() : nullptr);
   }
   double last_ckpt_wall = progress.elapsed();
   std::int64_t next_row = (sim->step_count() / series_every + 1) * series_every;
@@ -243,7 +269,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         snap = true;
         ++next_time;
       }
-      if (snap || s >= n_end) write_snapshot(snap_name(dir, s), sim->spheres(), sim->time(), s, prov);
+      if (snap || s >= n_end)
+        write_snapshot(snap_name(dir, s), sim->spheres(), sim->time(), s, prov, bonds ? &bonds->bonds() : nullptr);
       const int sig = stop.pending();
       if (sig != 0) {
         checkpoint();
@@ -274,10 +301,14 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   }
   checkpoint();
   series_file.commit();
-  if (cfg.self_gravity) {
-    const std::string c = cadence_report(*sim);
-    spdlog::info("{}", c);
-    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + c + "\n");
+  {
+    std::string tail;
+    if (cfg.self_gravity) tail += cadence_report(*sim) + "\n";
+    if (bonds) tail += bond_report(*sim) + "\n";
+    if (!tail.empty()) {
+      spdlog::info("{}", tail.substr(0, tail.size() - 1));
+      common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + tail);
+    }
   }
   rd.publish();
   spdlog::info("run complete: outputs published in {}", out_dir);

@@ -135,6 +135,9 @@ common::Schema ssdem_schema() {
   s.add_real("bonds.tau_c", 1e300, "Pa", 0.0, 1e300, "bond shear strength");
   s.add_real("bonds.radius_ratio", 1.0, "1", 0.0, 10.0, "bond radius / smaller sphere radius");
   s.add_real("bonds.gap", 0.01, "1", 0.0, 1.0, "largest gap bonded by the generator, / smaller radius");
+  s.add_bool("bonds.from_file", true,
+             "use the bonds of initial.file (its /bonds group, e.g. written by mpm2spheres bonds.enabled) when it "
+             "has them; false ignores them");
   {
     auto& w = s.add_table_array("wall", "infinite plane walls");
     w.add_vec3("point", Eigen::Vector3d::Zero(), "m", -inf, inf, "a point on the plane");
@@ -168,7 +171,7 @@ std::string fmt_g(double v) {
 }
 }  // namespace
 
-Spheres initial_spheres(const common::Scene& sc) {
+Spheres initial_spheres(const common::Scene& sc, BondSet* file_bonds) {
   const InitialSource src = sc.choice("initial.source", kInitialSources);
   Spheres sp;
   if (src == InitialSource::file || src == InitialSource::ss) {
@@ -184,6 +187,7 @@ Spheres initial_spheres(const common::Scene& sc) {
     common::check_input_spheres(in, f, ss ? "" : "/spheres/");  // .ss: bounds on the SI values, fields unprefixed
     sp = from_sphere_set(in);
     if (sp.size() == 0) throw common::InputError(f + ": no spheres");
+    if (file_bonds) *file_bonds = from_bond_table(in.bonds, sp);
     return sp;
   }
   const double R = sc.real("initial.body_radius"), s = sc.real("initial.sphere_radius");
@@ -222,7 +226,7 @@ Spheres initial_spheres(const common::Scene& sc) {
   return sp;
 }
 
-SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info) {
+SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info, const BondSet* file_bonds) {
   SimConfig c;
   std::ostringstream os;
   c.self_gravity = sc.boolean("gravity.self");
@@ -314,10 +318,22 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       c.bonds = generate_bonds(sp, bp);
       os << c.bonds.size() << " bonds generated\n";
     }
-    const double tau_min = shortest_contact_time(p, sp, !c.walls.empty());
+    if (file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file")) {
+      if (sc.boolean("bonds.generate"))
+        throw common::InputError(sc.where("bonds.generate") + ": the input file " + sc.string("initial.file") +
+                                 " has bonds; set bonds.from_file = false to generate bonds instead");
+      c.bonds = *file_bonds;
+      os << c.bonds.size() << " bonds from " << sc.string("initial.file") << " (" << c.bonds.broken_count()
+         << " of them broken)\n";
+    }
+    const double tau_c = shortest_contact_time(p, sp, !c.walls.empty());
+    const double tau_b = c.bonds.empty() ? INFINITY : shortest_bond_time(c.bonds, sp);
+    const double tau_min = std::min(tau_c, tau_b);
     if (c.dt <= 0.0) {
       c.dt = tau_min / sc.real("time.steps_per_contact");
-      os << "dt = " << c.dt << " s (tau_min / " << sc.real("time.steps_per_contact") << ")\n";
+      os << "dt = " << c.dt << " s (tau_min / " << sc.real("time.steps_per_contact") << "; shortest contact "
+         << tau_c << " s" << (c.bonds.empty() ? std::string() : ", shortest bond mode " + std::to_string(tau_b) + " s")
+         << ")\n";
     }
     const Predictor pred = sc.choice("contact.predictor", kPredictors);
     c.extrapolated_predictor =
@@ -326,6 +342,9 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
        << common::choice_name(kPredictors, c.extrapolated_predictor ? Predictor::extrapolated : Predictor::pkdgrav)
        << (pred == Predictor::automatic ? " (auto: " + std::to_string(tau_min / c.dt) + " steps per shortest contact)" : "") << "\n";
   }
+  if (!c.contacts && file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file"))
+    throw common::InputError(sc.where("contact.enabled") + ": the input file " + sc.string("initial.file") +
+                             " has bonds, which need the soft-sphere contacts; enable them or set bonds.from_file = false");
   if (!(c.dt > 0.0))
     throw common::InputError(sc.where("time.dt") + ": must be > 0 when contacts are off");
   if (info) *info = os.str();

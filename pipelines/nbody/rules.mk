@@ -84,3 +84,22 @@ nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense
 	$(BUILD)/tests/nbody/nbody-dense-pile $(RUNS)/nbody-gravity/pile_10000.h5 10000
 	OMP_NUM_THREADS=1 $(BUILD)/tests/nbody/nbody-gravity-sweep $(RUNS)/nbody-gravity/pile_10000.h5 \
 	  0.25,0.3,0.35,0.4,0.5 8,16 32,64,128 | tee $(RUNS)/nbody-gravity/sweep.md
+
+# nbody-bonds-study (issue 18): bonds from the hand-off and cohesion on/off on the demo impact's
+# MPM output (BONDS_RUN, default the demo run; `make demo` first) and, with nbody-bonds-study-dart,
+# on the DART-like family (BONDS_DART_RUN, `make dart-demo` first): M_LR/M_PB, beta, escaping mass
+# against time, bonds broken against time, released bond energy, cost per sphere-step (bonds off
+# and on interleaved). Writes runs/nbody-bonds-study/<family>/bonds_study.{md,json,png}.
+BONDS_RUN ?= $(RUNS)/demo
+BONDS_DART_RUN ?= $(RUNS)/dart-demo
+# BONDS_OLD: a previous ssdem-grav, whose bonds-off cost and peak memory are measured interleaved
+# with the new binary's ("no bonds, no cost").
+BONDS_OLD ?=
+BONDS_VARIANTS ?= base,bonds-Dc0.125-hi,bonds-Dc1-lo,bonds-Dc1-hi,coh,bonds-Dc1-hi+coh
+.PHONY: nbody-bonds-study nbody-bonds-study-dart
+nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M_PB, beta, ejecta and broken bonds vs time, cost (~3 min)
+	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines demo first"; exit 1; }
+	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(RUNS)/nbody-bonds-study/paper $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
+nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's MPM output; ~15 min)
+	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
+	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))

@@ -175,6 +175,11 @@ def build_run(root, analyse):
         p = os.path.join(root, "reaccumulate", f"snap_{k:09d}.h5")
         write_spheres(p, t, k * 100, "ssdem-grav", x, v, m, r, d)
         snaps.append(p)
+    # ssdem-grav's series with the bond columns (40 bonds, 20 broken by 1800 s, 30 by 3600 s)
+    with open(os.path.join(root, "reaccumulate", "series.csv"), "w") as f:
+        f.write("step,time_s,total_J,bond_elastic_J,bond_released_J,bonds_intact,bonds_broken\n")
+        f.write("0,0,-1e18,4e14,0,40,0\n1,900,-1e18,3e14,1e15,35,5\n2,1800,-1e18,2e14,2e15,20,20\n"
+                "3,3600,-1e18,1e14,2.5e15,10,30\n")
     # a checkpoint must not be mistaken for a snapshot
     shutil.copy(snaps[-1], os.path.join(root, "reaccumulate", "checkpoint.h5"))
     with open(os.path.join(root, "timings.csv"), "w") as f:
@@ -272,6 +277,10 @@ def main():
         ok = os.path.exists(p) and os.path.getsize(p) > 5000 and open(p, "rb").read(8) == b"\x89PNG\r\n\x1a\n"
         check(ok, f"{png} is a PNG > 5 kB")
         check(f"({png})" in md, f"report links {png}")
+    check("## Bonds (ssdem-grav)" in md and "| bonds at the start (broken) | 40 (0) |" in md
+          and "| broken at the end, t = 3600 s | 30 |" in md and "| half of them broken by | 1800 s |" in md
+          and "| stored energy of the broken bonds (released) | 2.5e+15 J (0.0025 of the initial total) |" in md,
+          "bonds section from the series' bond columns")
     check("checkpoint.h5" not in md, "checkpoint not counted as a snapshot")
     check("N-body snapshots: 3" in md, "three N-body snapshots found")
 
@@ -292,6 +301,7 @@ def main():
     md2 = open(os.path.join(sparse, "rep", "report.md")).read()
     check(md2.count("not available") >= 6, f"missing pieces say 'not available' ({md2.count('not available')} times)")
     check(os.path.exists(os.path.join(sparse, "rep", "fig_nbody_spheres.png")), "sphere figure still drawn")
+    check("## Bonds" not in md2, "no bond columns, no bonds section")
     check(not os.path.exists(os.path.join(sparse, "rep", "fig_history.png")), "no history figure without analysis")
 
     rc = subprocess.run([sys.executable, a.report, os.path.join(a.workdir, "does-not-exist")],

@@ -149,3 +149,34 @@ TEST(Xdmf, TemporalCollectionAndEscaping) {
   EXPECT_NE(t.find("x&amp;y.h5"), std::string::npos);
   EXPECT_NE(t.find("<Time Value=\"1.5\"/>"), std::string::npos);
 }
+
+// A sphere file with bonds: a spatial collection of the spheres (Polyvertex) and the bonds
+// (Polyline, 2 nodes per element, connectivity = /bonds/sphere_index on the sphere positions,
+// cell-centred bond attributes); every DataItem matches its dataset's shape and type.
+TEST(Xdmf, BondsAreAPolylineGridOnTheSpherePositions) {
+  testutil::TempDir dir;
+  const std::string path = dir.file("sb.h5");
+  SphereSet s = testutil::sample_spheres(12);
+  for (std::uint64_t k = 0; k < 5; ++k) s.bonds.add(k, k + 7, 1e7, 4e6, 1e5, 2e5, 50.0, 200.0);
+  s.bonds.broken = {0, 1, 0, 0, 1};
+  write_sphere_set(path, s, testutil::sample_provenance());
+  // spheres: geometry + 5 core attributes + damage; bonds: connectivity + geometry + 6 columns + broken
+  check_sidecar(path, (1 + 5 + 1) + (1 + 1 + 6 + 1));
+  const std::string xmf = slurp(xdmf_path_for(path));
+  EXPECT_NE(xmf.find("CollectionType=\"Spatial\""), std::string::npos);
+  EXPECT_NE(xmf.find("<Topology TopologyType=\"Polyline\" NumberOfElements=\"5\" NodesPerElement=\"2\">"),
+            std::string::npos);
+  EXPECT_NE(xmf.find("Dimensions=\"5 2\">sb.h5:/bonds/sphere_index</DataItem>"), std::string::npos);
+  EXPECT_NE(xmf.find("<Attribute Name=\"broken\" AttributeType=\"Scalar\" Center=\"Cell\">"), std::string::npos);
+  // the connectivity holds the rows of the bonded spheres
+  h5::Handle f = h5::open_file_read(path);
+  const auto idx = h5::read_u64(f, "/bonds/sphere_index", 5, 2, path);
+  for (std::size_t k = 0; k < 5; ++k) {
+    EXPECT_EQ(idx[2 * k], k);
+    EXPECT_EQ(idx[2 * k + 1], k + 7);
+  }
+  // no bonds: the sidecar is the single Polyvertex grid as before
+  const std::string p0 = dir.file("s0.h5");
+  write_sphere_set(p0, testutil::sample_spheres(12), testutil::sample_provenance());
+  EXPECT_EQ(slurp(xdmf_path_for(p0)).find("Polyline"), std::string::npos);
+}

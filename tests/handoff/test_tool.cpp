@@ -259,3 +259,35 @@ TEST(Mpm2SpheresTool, VersionAndPrintSceneReadBack) {
   common::h5::Handle f = common::h5::open_file_read(d.f("c.h5"));
   EXPECT_EQ(common::h5::read_attr_string(common::h5::open_group(f, "audit", ""), "method", ""), "conserving");
 }
+
+// bonds.enabled: /bonds written with the XDMF lines and the law's inputs in /handoff; refused
+// (exit 2, nothing written) without bonds.kn or without a damage field.
+TEST(Mpm2SpheresTool, BondsWrittenOrRefused) {
+  Dir d;
+  auto s = testsets::filled_box(10, 1.0, 2, 4, 1, 1.0, [](const Eigen::Vector3d&) { return Eigen::Vector3d(0, 0, 1); });
+  common::write_particle_snapshot(d.f("nodamage.h5"), s, prov());
+  s.fields.push_back(common::Field{"damage", "1", 1, std::vector<double>(s.count(), 0.05), ""});
+  common::write_particle_snapshot(d.f("snap.h5"), s, prov());
+  const std::string bonds = " --set bonds.enabled=true --set bonds.kn=2e9 --set bonds.sigma_c=3e6";
+  ASSERT_EQ(run("-i " + d.f("snap.h5") + " -o " + d.f("out.h5") + bonds), 0);
+  const auto sph = common::read_sphere_set(d.f("out.h5"));
+  ASSERT_EQ(sph.count(), 64u);
+  ASSERT_EQ(sph.bonds.size(), 3u * 4u * 3u * 4u);  // 4^3 block: 3 axes x 16 lines x 3 pairs = 144
+  for (std::size_t k = 0; k < sph.bonds.size(); ++k) {
+    EXPECT_NEAR(sph.bonds.kn[k], 2e9 * (1 - 0.05 / 0.125), 1e-3);
+    EXPECT_NEAR(sph.bonds.sigma_c[k], 3e6 * (1 - 0.05 / 0.125), 1e-6);
+  }
+  std::ifstream x(d.f("out.xmf"));
+  EXPECT_NE(std::string((std::istreambuf_iterator<char>(x)), {}).find("TopologyType=\"Polyline\" NumberOfElements=\"144\""),
+            std::string::npos);
+  common::h5::Handle f = common::h5::open_file_read(d.f("out.h5"));
+  EXPECT_EQ(common::h5::read_attr_int(common::h5::open_group(f, "handoff", ""), "bonds_count", ""), 144);
+  for (const auto& [args, what] : {std::pair<std::string, std::string>{"-i " + d.f("snap.h5") + " --set bonds.enabled=true", "bonds.kn"},
+                                   {"-i " + d.f("nodamage.h5") + bonds, "bonds.enabled"}}) {
+    const auto [rc, out] = run_capture(args + " -o " + d.f("bad.h5"));
+    EXPECT_EQ(rc, 2) << out;
+    EXPECT_NE(out.find(what), std::string::npos) << out;
+    EXPECT_FALSE(fs::exists(d.f("bad.h5")));
+    EXPECT_FALSE(fs::exists(d.f("bad.audit.json")));
+  }
+}

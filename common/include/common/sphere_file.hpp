@@ -5,6 +5,7 @@
 ///   /spheres: id (uint64 N), position (N x 3, m), velocity (N x 3, m/s),
 ///             spin (N x 3 angular velocity, rad/s), mass (N, kg), radius (N, m),
 ///             optional damage (N, 1) and other per-sphere fields
+///   /bonds (optional): parallel bonds between spheres of the file, by ids (bond_file.hpp)
 ///   /provenance attrs: tool, version, git_sha, command_line, scene
 /// Tools may add groups (hand-off audit and id map, contact history in checkpoints) through
 /// the extra hook. Every dataset has a `unit` attribute; XDMF sidecar beside it.
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/bond_file.hpp"
 #include "common/field.hpp"
 #include "common/particle_file.hpp"
 #include "common/provenance.hpp"
@@ -57,6 +59,7 @@ struct SphereSet {
   std::vector<double> mass;      ///< N
   std::vector<double> radius;    ///< N
   std::vector<Field> fields;     ///< optional: damage, ...
+  BondTable bonds;               ///< optional: /bonds (empty: the file has none)
 
   std::size_t count() const { return id.size(); }
   const Field* field(const std::string& name) const;
@@ -85,7 +88,8 @@ struct SphereSet {
 
 void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,
                       const H5Hook& extra = {});
-/// Validates like read_particle_snapshot, plus positive radius and finite spin.
+/// Validates like read_particle_snapshot, plus positive radius and finite spin, and /bonds if
+/// present (read_bonds: ids, ranges; InputError naming file, dataset and range).
 SphereSet read_sphere_set(const std::string& path, const H5Hook& extra = {});
 
 }  // namespace common

@@ -6,6 +6,7 @@
 
 #include "common/schema.hpp"
 #include "common/ss_file.hpp"
+#include "handoff/face_bonds.hpp"
 #include "handoff/projection.hpp"
 #include "handoff/selection.hpp"
 
@@ -33,6 +34,7 @@ struct HandoffConfig {
   double max_energy_loss = 1.0;  ///< relative KE loss above which the tool fails (exit 3)
   int ss_color = 3;
   bool carry_given = false;      ///< the user listed fields explicitly (missing ones are errors)
+  HandoffBondParams bonds;       ///< bonds.*: bonds between face-adjacent spheres (face_bonds.hpp)
 };
 
 HandoffConfig handoff_config(const common::Scene& scene);

@@ -29,9 +29,16 @@ namespace ssdem {
 common::SphereSet to_sphere_set(const Spheres& sp, double time, std::int64_t step);
 Spheres from_sphere_set(const common::SphereSet& s);
 
-/// Snapshot (state of the spheres only).
+/// Bonds of a file (common/bond_file.hpp) as a BondSet at rest (zero shear and moments, frame
+/// normal from the positions of `sp`), and back (the file keeps ids, stiffness, strength,
+/// geometry and the broken flags; the dynamic state stays in checkpoints).
+BondSet from_bond_table(const common::BondTable& t, const Spheres& sp);
+common::BondTable to_bond_table(const BondSet& b);
+
+/// Snapshot (state of the spheres, and the bonds with their broken flags if `bonds` is given
+/// and not empty: /bonds, drawn as lines by the XDMF sidecar).
 void write_snapshot(const std::string& path, const Spheres& sp, double time, std::int64_t step,
-                    const common::Provenance& prov);
+                    const common::Provenance& prov, const BondSet* bonds = nullptr);
 /// Checkpoint: snapshot + /ssdem_state.
 /// `kn` is the resolved normal stiffness (the k_n rule depends on the state, so a restart must
 /// reuse the value the run started with).

@@ -22,11 +22,16 @@ const ContactPartRegistry& builtin_contact_parts();
 /// Full scene schema of ssdem-grav.
 common::Schema ssdem_schema();
 
-/// Initial spheres from the scene (file or generator).
-Spheres initial_spheres(const common::Scene& scene);
+/// Initial spheres from the scene (file or generator). `file_bonds` (optional) receives the bonds
+/// of an ssdem.spheres input file (its /bonds group, common/bond_file.hpp; empty if none).
+Spheres initial_spheres(const common::Scene& scene, BondSet* file_bonds = nullptr);
 
 /// Simulation configuration; resolves the k_n / dt rule against `sp` when k_n or dt are 0
 /// ("auto"). `info` (optional) receives a human-readable summary of the choices.
-SimConfig sim_config(const common::Scene& scene, const Spheres& sp, std::string* info = nullptr);
+/// Bonds: bonds.generate, or the input file's bonds (`file_bonds`) when bonds.from_file is true
+/// (the default: a hand-off file's bonds are used automatically); both at once is an InputError.
+/// With time.dt = 0 the step resolves the shortest bond mode like a contact (dt_rule.hpp).
+SimConfig sim_config(const common::Scene& scene, const Spheres& sp, std::string* info = nullptr,
+                     const BondSet* file_bonds = nullptr);
 
 }  // namespace ssdem

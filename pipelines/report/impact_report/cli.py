@@ -5,6 +5,7 @@ import os
 import sys
 
 from h5io import h5py  # pipelines/lib
+from .bonds import bonds_section
 from .cutaway import impact_frame
 from .discover import discover
 from .energy import energy_section
@@ -46,6 +47,7 @@ def build_report(run, out, title):
     md += sections.comparison_section(energy, summary, audit)
     md += energy_section(run.mpm_series)
     md += sections.audit_section(run, audit)
+    md += bonds_section(run.nbody)
     md += sections.timings_section(run)
     md += figures_section(run, summary, frame, out, notes)
     md += sections.files_section(run, summary, notes)
