@@ -26,6 +26,9 @@ NBODY_TIME    ?= 16200
 NBODY_TIMES   ?= [600.0, 1800.0, 3600.0, 7200.0, 10800.0, 16200.0]
 COARSEN       ?= 1
 HANDOFF_METHOD ?= paper
+# Flaw seed of the Tonge-Ramesh model (mpm-frag run.seed; the scene's 2019 by default).
+# impact-ensemble (ensemble.mk) runs the same impact with several.
+SEED          ?= 2019
 DAMAGE_INC    ?= 0.01
 DOMAIN_FACTOR ?= 3.2
 # Material that leaves the MPM grid (fast ejecta, rebounding impactor fragments): "remove" takes
@@ -47,6 +50,7 @@ define FRAGMENT_SETS
 --set grid.cell_size=$(CELL) \
 --set 'grid.domain_min=[-$(HALF),-$(HALF),-$(HALF)]' --set 'grid.domain_max=[$(HALF),$(HALF),$(HALF)]' \
 --set time.end=$(MPM_TIME) --set output.snapshot_interval=$(SNAP_INTERVAL) --set grid.outflow=\"$(OUTFLOW)\" \
+--set run.seed=$(SEED) \
 --set output.directory=$(RUN)/fragment \
 --set material[0].density=$(DENSITY) --set material[0].max_damage_inc=$(DAMAGE_INC) \
 --set body[0].radius=$(R_T) --set 'body[1].center=[0,0,$(Z_I)]' --set body[1].radius=$(R_I) \
@@ -177,3 +181,7 @@ impact-extremes: tools ## 20 km/s and 100 m/s impacts through all stages, checke
 	done
 	$(PY) $(IMPACT_DIR)/check_runs.py $(RUNS)/impact-extremes/v20000 $(RUNS)/impact-extremes/v100 \
 	  --out $(RUNS)/impact-extremes
+
+# Flaw-seed ensembles (impact-ensemble) and the ParaView figures (impact-figures).
+include $(IMPACT_DIR)/ensemble.mk
+-include $(IMPACT_DIR)/figures.mk

@@ -3,7 +3,8 @@
 A run directory (pipelines/impact/rules.mk) holds analysis.json (ssdem-analyse summary),
 spheres.audit.json (mpm2spheres audit), fragment/frag_series.csv (MPM energy history),
 timing/<stage>.json ({"stage", "wall_s", "exit_code"})
-and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size is read).
+and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size, impact speed
+and flaw seed `run.seed` are read).
 """
 import json
 import math
@@ -31,7 +32,7 @@ def _finite(x):
 
 def read_run(run_dir):
     """Dict of the run's settings, outcomes, stage times and exit codes; missing pieces are None."""
-    r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "M_LR_over_M_PB": None, "beta": None,
+    r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "seed": None, "M_LR_over_M_PB": None, "beta": None,
          "bound_mass_fraction": None, "ke_loss": None, "mass_rel_diff": None, "momentum_rel_diff": None,
          "outflow_particles": None, "spheres": None, "mpm_energy_change": None, "wall_s": {}, "exit_code": {},
          "problems": []}
@@ -42,6 +43,8 @@ def read_run(run_dir):
         r["cell_m"] = float(m.group(1)) if m else None
         m = re.search(r"body\[1\]\.velocity=\[0,0,-([0-9.eE+-]+)\]", text)
         r["speed_m_s"] = float(m.group(1)) if m else None
+        m = re.search(r"run\.seed=([0-9]+)", text)
+        r["seed"] = int(m.group(1)) if m else None
     except OSError:
         r["problems"].append(f"{vars_path} missing")
     for st in STAGES:
