@@ -14,7 +14,15 @@ three finest runs by Richardson extrapolation with an observed order p:
 
 When the differences change sign (non-monotone convergence) or no p in (0.05, 8) fits, there is
 no asymptotic range: the table then reports the finest value with the spread of the three finest
-as its uncertainty, and says so. Writes DIR/convergence.{csv,md,png}.
+as its uncertainty, and says so.
+
+With --ensemble EDIR (ensemble.py's output for several flaw seeds at one of the cells) the seed
+scatter enters the uncertainty of the estimate: u = sqrt(d^2 + s^2), d = |finest - f_0| (the
+discretisation part, or the spread of the three finest where there is no fit) and s the seeds'
+sample standard deviation. The table also carries the MPM particles, the MPM energy change and the
+transfer heat (the numerical heat of the grid-particle transfer, `transfer_heat_J` at the end of
+the MPM over the initial energy), and the paper's values (El Mir et al. 2019: 0.85, 1.69).
+Writes DIR/convergence.{csv,md,png}.
 """
 import argparse
 import csv
@@ -28,7 +36,23 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.p
 import atomic  # noqa: E402
 
 QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "hand-off KE loss"),
-              ("mpm_energy_change", "MPM energy change"))
+              ("mpm_energy_change", "MPM energy change"), ("transfer_heat_frac", "transfer heat / E0"))
+PAPER = {"M_LR_over_M_PB": 0.85, "beta": 1.69}  # El Mir, Ramesh & Richardson (2019), 200 m cells, 4.5 h
+
+
+def read_ensemble(edir):
+    """{quantity: row of ensemble.csv (n, mean, std, ...)} and the cell of its runs, or ({}, None)."""
+    if not edir:
+        return {}, None
+    with open(os.path.join(edir, "ensemble.csv")) as f:
+        table = {r["quantity"]: r for r in csv.DictReader(f)}
+    cell = None
+    try:
+        with open(os.path.join(edir, "ensemble_runs.csv")) as f:
+            cell = float(next(csv.DictReader(f))["cell_m"])
+    except (OSError, StopIteration, ValueError, KeyError):
+        pass
+    return table, cell
 
 
 def richardson(h, f):
@@ -63,7 +87,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--out", required=True)
+    ap.add_argument("--ensemble", help="ensemble.py output directory (flaw seeds at one cell)")
     a = ap.parse_args(argv)
+    ens, ens_cell = read_ensemble(a.ensemble)
     os.makedirs(a.out, exist_ok=True)
     runs = sorted((read_run(d) for d in a.runs), key=lambda r: -(r["cell_m"] or 0))
     bad = [r for r in runs if r["problems"]]
@@ -72,29 +98,33 @@ def main(argv=None):
     h = [r["cell_m"] for r in runs]
     with open(os.path.join(a.out, "convergence.csv"), "w", newline="") as f:
         w = csv.writer(f)
-        w.writerow(["cell_m", "run", "M_LR_over_M_PB", "beta", "ke_loss", "mpm_energy_change", "spheres",
+        w.writerow(["cell_m", "run", "particles", "M_LR_over_M_PB", "beta", "ke_loss", "mpm_energy_change",
+                    "transfer_heat_frac", "spheres",
                     "wall_fragment_s", "wall_handoff_s", "wall_reaccumulate_s", "wall_analyse_s", "wall_total_s"])
         for r in runs:
-            w.writerow([r["cell_m"], r["run"], r["M_LR_over_M_PB"], r["beta"], r["ke_loss"], r["mpm_energy_change"], r["spheres"],
+            w.writerow([r["cell_m"], r["run"], r["particles"], r["M_LR_over_M_PB"], r["beta"], r["ke_loss"],
+                        r["mpm_energy_change"], r["transfer_heat_frac"], r["spheres"],
                         r["wall_s"].get("fragment"), r["wall_s"].get("handoff"), r["wall_s"].get("reaccumulate"),
                         r["wall_s"].get("analyse"), f"{total_wall(r):.1f}"])
     md = ["# Impact chain: outcomes against MPM resolution and wall time", "",
-          "Same impact, same 3 km spheres in the N-body stage; only the MPM cell size changes.", "",
-          "| cell (m) | M_LR/M_PB | beta | hand-off KE loss | MPM energy change | spheres | wall: fragment / hand-off / N-body / analyse (s) | total (s) |",
-          "|---|---|---|---|---|---|---|---|"]
+          "Same impact and the same N-body settings in every row; only the MPM cell size changes.", "",
+          "| cell (m) | particles | M_LR/M_PB | beta | hand-off KE loss | MPM energy change | transfer heat / E0 | spheres | wall: fragment / hand-off / N-body / analyse (s) | total (s) |",
+          "|---|---|---|---|---|---|---|---|---|---|"]
 
     def num(x, f="{:.4f}"):
         return "n/a" if x is None else f.format(x)
 
     for r in runs:
         ws = r["wall_s"]
-        md.append(f"| {num(r['cell_m'], '{:.0f}')} | {num(r['M_LR_over_M_PB'])} | {num(r['beta'], '{:.3f}')} | "
+        md.append(f"| {num(r['cell_m'], '{:.0f}')} | {r['particles']} | {num(r['M_LR_over_M_PB'])} | {num(r['beta'], '{:.3f}')} | "
                   f"{num(100 * r['ke_loss'] if r['ke_loss'] is not None else None, '{:.2f} %')} | "
-                  f"{num(100 * r['mpm_energy_change'] if r['mpm_energy_change'] is not None else None, '{:+.1f} %')} | {r['spheres']} | "
+                  f"{num(100 * r['mpm_energy_change'] if r['mpm_energy_change'] is not None else None, '{:+.4f} %')} | "
+                  f"{num(r['transfer_heat_frac'], '{:.3f}')} | {r['spheres']} | "
                   + " / ".join(num(ws.get(s), "{:.1f}") for s in ("fragment", "handoff", "reaccumulate", "analyse"))
                   + f" | {total_wall(r):.1f} |")
-    md += ["", "| quantity | finest run | extrapolated (h -> 0) | observed order p | finest run's distance to it | note |",
-           "|---|---|---|---|---|---|"]
+    md += ["", "| quantity | finest run | extrapolated (h -> 0) | observed order p | finest run's distance to it | "
+           f"seed std{'' if ens_cell is None else f' ({ens_cell:.0f} m)'} | estimate ± u | paper | note |",
+           "|---|---|---|---|---|---|---|---|---|"]
     summary = {}
     for key, label in QUANTITIES:
         vals = [r[key] for r in runs]
@@ -107,9 +137,20 @@ def main(argv=None):
         else:
             dist = f"spread of the three finest: {spread:.3g}" if spread is not None else "n/a"
         summary[key] = (f0, p, note)
-        md.append(f"| {label} | {num(finest, '{:.4g}')} | {num(f0, '{:.4g}')} | {num(p, '{:.2f}')} | {dist} | {note} |")
+        sd = float(ens[key]["std"]) if key in ens and ens[key].get("std") not in (None, "") else None
+        est, d = (f0, abs(finest - f0)) if f0 is not None and finest is not None else (finest, spread)
+        u = math.hypot(d, sd or 0.0) if d is not None else sd
+        md.append(f"| {label} | {num(finest, '{:.4g}')} | {num(f0, '{:.4g}')} | {num(p, '{:.2f}')} | {dist} | "
+                  f"{num(sd, '{:.3g}')} | {num(est, '{:.4g}')} ± {num(u, '{:.2g}')} | {PAPER.get(key, '')} | {note} |")
     md += ["", "The demo resolution is the 1000 m row; its distance to the extrapolated value (or to the "
-           "finest run where no asymptotic range exists) is how far the demo is from converged.", ""]
+           "finest run where no asymptotic range exists) is how far the demo is from converged. "
+           "u = sqrt(d^2 + seed std^2), d = the finest run's distance to the extrapolated value, or the spread "
+           "of the three finest runs where there is no asymptotic fit.", ""]
+    if ens:
+        md += [f"Flaw seeds at {num(ens_cell, '{:.0f}')} m (n = {ens['beta']['n']}): " + ", ".join(
+            f"{lab} {float(ens[k]['mean']):.4g} ± {float(ens[k]['std']):.2g} (min {float(ens[k]['min']):.4g}, "
+            f"max {float(ens[k]['max']):.4g})" for k, lab in (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"))
+            if k in ens and ens[k]["mean"] != "") + ".", ""]
     with open(os.path.join(a.out, "convergence.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     print("\n".join(md))
@@ -120,7 +161,7 @@ def main(argv=None):
     except ImportError:
         print("matplotlib missing: no plot", file=sys.stderr)
         return 0
-    fig, axs = plt.subplots(1, 4, figsize=(17, 4))
+    fig, axs = plt.subplots(1, len(QUANTITIES), figsize=(4.2 * len(QUANTITIES), 4))
     wall = [total_wall(r) for r in runs]
     for ax, (key, label) in zip(axs, QUANTITIES):
         vals = [r[key] for r in runs]
@@ -131,6 +172,9 @@ def main(argv=None):
         f0 = summary[key][0]
         if f0 is not None:
             ax.axhline(f0, color="k", ls="--", lw=0.8, label=f"Richardson, p = {summary[key][1]:.2f}")
+        if key in PAPER:
+            ax.axhline(PAPER[key], color="r", ls=":", lw=0.8, label=f"El Mir et al. 2019: {PAPER[key]}")
+        if f0 is not None or key in PAPER:
             ax.legend(fontsize=8)
         ax.set_xscale("log")
         ax.set_xlabel("total wall time of the four stages (s)")

@@ -12,9 +12,10 @@ Each RUN_DIR is one run of the impact pipeline with the same settings except the
     min, max
 
 for M_LR/M_PB (largest remnant over parent body), beta (momentum enhancement of the bound
-remnant), the hand-off kinetic-energy loss (mpm2spheres audit), the bound-mass fraction and the
-MPM energy change. Writes DIR/ensemble_runs.csv (one row per seed), DIR/ensemble.csv (one row per
-quantity: n, mean, std, sem, min, max) and DIR/ensemble.md. Exit 1 (tables still written, the
+remnant), the hand-off kinetic-energy loss (mpm2spheres audit), the bound-mass fraction, the
+MPM energy change and the MPM transfer heat over the initial energy. Writes DIR/ensemble_runs.csv
+(one row per seed), DIR/ensemble.csv (one row per quantity: n, mean, std, sem, min, max) and
+DIR/ensemble.md. Exit 1 (tables still written, the
 problem named) when a run is incomplete, two runs share a seed, or the runs differ in anything but
 the seed (cell size or impact speed), so that an ensemble of unlike runs is never averaged silently.
 """
@@ -35,7 +36,8 @@ QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB", 1.0, "{:.4f}"),
               ("beta", "beta", 1.0, "{:.3f}"),
               ("ke_loss", "hand-off KE loss (%)", 100.0, "{:.3f}"),
               ("bound_mass_fraction", "bound mass / M_PB", 1.0, "{:.4f}"),
-              ("mpm_energy_change", "MPM energy change (%)", 100.0, "{:+.4f}"))
+              ("mpm_energy_change", "MPM energy change (%)", 100.0, "{:+.4f}"),
+              ("transfer_heat_frac", "transfer heat / E0", 1.0, "{:.4f}"))
 
 
 def stats(values):

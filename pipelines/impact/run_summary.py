@@ -30,11 +30,24 @@ def _finite(x):
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
+def _particle_count(run_dir):
+    """MPM particles at t = 0 (the first snapshot listed in fragment/done), or None."""
+    try:
+        import h5py
+        with open(os.path.join(run_dir, "fragment", "done")) as f:
+            first = f.readline().strip()
+        with h5py.File(first, "r") as h:
+            return int(h["particles/mass"].shape[0])
+    except (ImportError, OSError, KeyError, ValueError):
+        return None
+
+
 def read_run(run_dir):
     """Dict of the run's settings, outcomes, stage times and exit codes; missing pieces are None."""
     r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "seed": None, "M_LR_over_M_PB": None, "beta": None,
          "bound_mass_fraction": None, "ke_loss": None, "mass_rel_diff": None, "momentum_rel_diff": None,
-         "outflow_particles": None, "spheres": None, "mpm_energy_change": None, "wall_s": {}, "exit_code": {},
+         "outflow_particles": None, "spheres": None, "mpm_energy_change": None,
+         "transfer_heat_frac": None, "particles": None, "wall_s": {}, "exit_code": {},
          "problems": []}
     vars_path = os.path.join(run_dir, ".vars", "FRAGMENT")
     try:
@@ -73,8 +86,11 @@ def read_run(run_dir):
         rows = read_rows(os.path.join(run_dir, "fragment", "frag_series.csv"))
         e0, e1 = float(rows[0]["total_J"]), float(rows[-1]["total_J"])
         r["mpm_energy_change"] = (e1 - e0) / e0 if e0 else None
+        # numerical heat of the grid-particle transfer (DeBar fix-up, PIC blend), per initial energy
+        r["transfer_heat_frac"] = float(rows[-1]["transfer_heat_J"]) / e0 if e0 else None
     except (OSError, ValueError, IndexError, KeyError, TypeError):
         r["problems"].append("fragment/frag_series.csv missing or unreadable")
+    r["particles"] = _particle_count(run_dir)
     au = _load(os.path.join(run_dir, "spheres.audit.json"))
     if au is None:
         r["problems"].append("spheres.audit.json missing or unreadable")

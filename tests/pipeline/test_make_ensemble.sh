@@ -29,7 +29,8 @@ import csv, json, math, sys
 import h5py, numpy as np
 ens, seeds = sys.argv[1], [int(s) for s in sys.argv[2:]]
 def fail(m): print("FAIL:", m); sys.exit(1)
-vals = {k: [] for k in ("M_LR_over_M_PB", "beta", "ke_loss", "bound_mass_fraction", "mpm_energy_change")}
+vals = {k: [] for k in ("M_LR_over_M_PB", "beta", "ke_loss", "bound_mass_fraction", "mpm_energy_change",
+                        "transfer_heat_frac")}
 damage = []
 for s in seeds:
     d = f"{ens}/seed{s}"
@@ -40,6 +41,7 @@ for s in seeds:
     rows = list(csv.DictReader(l for l in open(f"{d}/fragment/frag_series.csv") if not l.startswith("#")))
     e0, e1 = float(rows[0]["total_J"]), float(rows[-1]["total_J"])
     vals["mpm_energy_change"].append((e1 - e0) / e0)
+    vals["transfer_heat_frac"].append(float(rows[-1]["transfer_heat_J"]) / e0)
     with h5py.File(f"{d}/fragment/final.h5", "r") as f:
         scene = f["provenance"].attrs["scene"]
         scene = scene.decode() if isinstance(scene, bytes) else str(scene)
