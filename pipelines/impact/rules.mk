@@ -174,4 +174,4 @@ impact-extremes: tools ## 20 km/s and 100 m/s impacts through all stages, checke
 # ParaView figures (impact-figures).
 include $(IMPACT_DIR)/ensemble.mk
 include $(IMPACT_DIR)/convergence.mk
--include $(IMPACT_DIR)/figures.mk
+include $(IMPACT_DIR)/figures.mk
