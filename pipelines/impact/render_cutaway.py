@@ -118,6 +118,7 @@ def render_one(item, kind, dmax, lim, out_png, label, bar_shown):
         bar.WindowLocation = "Any Location"
         bar.Position = [0.86, 0.1]
         bar.ScalarBarLength = 0.5
+        bar.Visibility = 1 if bar_shown else 0
     else:
         pv.ColorBy(rep, None)
         rep.AmbientColor = rep.DiffuseColor = [0.6, 0.6, 0.6]
@@ -126,6 +127,7 @@ def render_one(item, kind, dmax, lim, out_png, label, bar_shown):
     trep.Color = [0.0, 0.0, 0.0]
     trep.FontSize = 22
     trep.WindowLocation = "Upper Left Corner"
+    pv.Render(view)  # the first render of a new view resets the camera: set it afterwards
     d = np.array([1.0, 0.55, 0.5])
     d /= np.linalg.norm(d)
     view.CameraFocalPoint = list(c)
