@@ -12,14 +12,14 @@ three finest runs by Richardson extrapolation with an observed order p:
     (f3 - f2) / (f2 - f1) = (h3^p - h2^p) / (h2^p - h1^p)   solved for p > 0,
     f_0 = f1 - C h1^p,  C = (f2 - f1) / (h2^p - h1^p).
 
-When the differences change sign (non-monotone convergence) or no p in (0.05, 8) fits, there is
-no asymptotic range: the table then reports the finest value with the spread of the three finest
+When the differences change sign (non-monotone convergence), no p in (0.05, 8) fits, or the p that
+fits is outside P_CREDIBLE = [0.5, 4], there is no asymptotic range: the table then reports the finest value with the spread of the three finest
 as its uncertainty, and says so.
 
-With --ensemble EDIR (ensemble.py's output for several flaw seeds at one of the cells) the seed
-scatter enters the uncertainty of the estimate: u = sqrt(d^2 + s^2), d = |finest - f_0| (the
-discretisation part, or the spread of the three finest where there is no fit) and s the seeds'
-sample standard deviation. The table also carries the MPM particles, the MPM energy change and the
+With --ensemble EDIR (ensemble.py's output for several flaw seeds at one of the cells; may be given
+once per cell) the seed scatter enters the uncertainty of the estimate: u = sqrt(d^2 + s^2),
+d = |finest - f_0| (the discretisation part, or the spread of the three finest where there is no
+fit) and s the seeds' sample standard deviation (the largest over the ensembles given). The table also carries the MPM particles, the MPM energy change and the
 transfer heat (the numerical heat of the grid-particle transfer, `transfer_heat_J` at the end of
 the MPM over the initial energy), and the paper's values (El Mir et al. 2019: 0.85, 1.69).
 Writes DIR/convergence.{csv,md,png}.
@@ -37,6 +37,9 @@ import atomic  # noqa: E402
 
 QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "hand-off KE loss"),
               ("mpm_energy_change", "MPM energy change"), ("transfer_heat_frac", "transfer heat / E0"))
+# An observed order outside this range (the schemes are first to second order) means the three
+# finest runs are not in the asymptotic range; an extrapolation with p -> 0 runs off to anything.
+P_CREDIBLE = (0.5, 4.0)
 PAPER = {"M_LR_over_M_PB": 0.85, "beta": 1.69}  # El Mir, Ramesh & Richardson (2019), 200 m cells, 4.5 h
 
 
@@ -79,6 +82,8 @@ def richardson(h, f):
         else:
             lo = mid
     p = 0.5 * (lo + hi)
+    if not P_CREDIBLE[0] <= p <= P_CREDIBLE[1]:
+        return None, None, f"observed order {p:.2f} outside {P_CREDIBLE}: not in the asymptotic range"
     C = d21 / (h2 ** p - h1 ** p)
     return f1 - C * h1 ** p, p, "Richardson"
 
@@ -87,9 +92,21 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("runs", nargs="+")
     ap.add_argument("--out", required=True)
-    ap.add_argument("--ensemble", help="ensemble.py output directory (flaw seeds at one cell)")
+    ap.add_argument("--ensemble", action="append", default=[],
+                    help="ensemble.py output directory (flaw seeds at one cell); repeatable")
     a = ap.parse_args(argv)
-    ens, ens_cell = read_ensemble(a.ensemble)
+    ensembles = sorted((read_ensemble(e) for e in a.ensemble), key=lambda e: -(e[1] or 0))
+    # per quantity the ensemble with the largest seed std (conservative)
+    ens = {}
+    th = [(r["cell_m"], r["transfer_heat_frac"]) for r in runs if r["cell_m"] and r["transfer_heat_frac"]]
+    if len(th) >= 2 and th[0][0] != th[-1][0]:
+        q = math.log(th[0][1] / th[-1][1]) / math.log(th[0][0] / th[-1][0])
+        md += [f"Transfer heat against cell size: a power law h^q through the coarsest and finest runs has "
+               f"q = {q:.2f} (each halving of h multiplies it by {0.5 ** q:.2f}).", ""]
+    for table, cell in ensembles:
+        for k, row in table.items():
+            if row.get("std") not in (None, "") and (k not in ens or float(row["std"]) > float(ens[k]["std"])):
+                ens[k] = dict(row, cell=cell)
     os.makedirs(a.out, exist_ok=True)
     runs = sorted((read_run(d) for d in a.runs), key=lambda r: -(r["cell_m"] or 0))
     bad = [r for r in runs if r["problems"]]
@@ -123,7 +140,7 @@ def main(argv=None):
                   + " / ".join(num(ws.get(s), "{:.1f}") for s in ("fragment", "handoff", "reaccumulate", "analyse"))
                   + f" | {total_wall(r):.1f} |")
     md += ["", "| quantity | finest run | extrapolated (h -> 0) | observed order p | finest run's distance to it | "
-           f"seed std{'' if ens_cell is None else f' ({ens_cell:.0f} m)'} | estimate ± u | paper | note |",
+           "seed std (cell) | estimate ± u | paper | note |",
            "|---|---|---|---|---|---|---|---|---|"]
     summary = {}
     for key, label in QUANTITIES:
@@ -140,17 +157,19 @@ def main(argv=None):
         sd = float(ens[key]["std"]) if key in ens and ens[key].get("std") not in (None, "") else None
         est, d = (f0, abs(finest - f0)) if f0 is not None and finest is not None else (finest, spread)
         u = math.hypot(d, sd or 0.0) if d is not None else sd
+        sd_cell = f" ({num(ens[key]['cell'], '{:.0f}')} m)" if key in ens else ""
         md.append(f"| {label} | {num(finest, '{:.4g}')} | {num(f0, '{:.4g}')} | {num(p, '{:.2f}')} | {dist} | "
-                  f"{num(sd, '{:.3g}')} | {num(est, '{:.4g}')} ± {num(u, '{:.2g}')} | {PAPER.get(key, '')} | {note} |")
+                  f"{num(sd, '{:.3g}')}{sd_cell} | "
+                  f"{num(est, '{:.4g}')} ± {num(u, '{:.2g}')} | {PAPER.get(key, '')} | {note} |")
     md += ["", "The demo resolution is the 1000 m row; its distance to the extrapolated value (or to the "
            "finest run where no asymptotic range exists) is how far the demo is from converged. "
            "u = sqrt(d^2 + seed std^2), d = the finest run's distance to the extrapolated value, or the spread "
            "of the three finest runs where there is no asymptotic fit.", ""]
-    if ens:
-        md += [f"Flaw seeds at {num(ens_cell, '{:.0f}')} m (n = {ens['beta']['n']}): " + ", ".join(
-            f"{lab} {float(ens[k]['mean']):.4g} ± {float(ens[k]['std']):.2g} (min {float(ens[k]['min']):.4g}, "
-            f"max {float(ens[k]['max']):.4g})" for k, lab in (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"))
-            if k in ens and ens[k]["mean"] != "") + ".", ""]
+    for table, cell in ensembles:
+        md += [f"Flaw seeds at {num(cell, '{:.0f}')} m (n = {table['beta']['n']}): " + ", ".join(
+            f"{lab} {float(table[k]['mean']):.4g} ± {float(table[k]['std']):.2g} (min {float(table[k]['min']):.4g}, "
+            f"max {float(table[k]['max']):.4g})" for k, lab in (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"))
+            if k in table and table[k]["mean"] != "") + ".", ""]
     with open(os.path.join(a.out, "convergence.md"), "w") as f:
         f.write("\n".join(md) + "\n")
     print("\n".join(md))
