@@ -98,11 +98,6 @@ def main(argv=None):
     ensembles = sorted((read_ensemble(e) for e in a.ensemble), key=lambda e: -(e[1] or 0))
     # per quantity the ensemble with the largest seed std (conservative)
     ens = {}
-    th = [(r["cell_m"], r["transfer_heat_frac"]) for r in runs if r["cell_m"] and r["transfer_heat_frac"]]
-    if len(th) >= 2 and th[0][0] != th[-1][0]:
-        q = math.log(th[0][1] / th[-1][1]) / math.log(th[0][0] / th[-1][0])
-        md += [f"Transfer heat against cell size: a power law h^q through the coarsest and finest runs has "
-               f"q = {q:.2f} (each halving of h multiplies it by {0.5 ** q:.2f}).", ""]
     for table, cell in ensembles:
         for k, row in table.items():
             if row.get("std") not in (None, "") and (k not in ens or float(row["std"]) > float(ens[k]["std"])):
@@ -165,6 +160,11 @@ def main(argv=None):
            "finest run where no asymptotic range exists) is how far the demo is from converged. "
            "u = sqrt(d^2 + seed std^2), d = the finest run's distance to the extrapolated value, or the spread "
            "of the three finest runs where there is no asymptotic fit.", ""]
+    th = [(r["cell_m"], r["transfer_heat_frac"]) for r in runs if r["cell_m"] and r["transfer_heat_frac"]]
+    if len(th) >= 2 and th[0][0] != th[-1][0]:
+        q = math.log(th[0][1] / th[-1][1]) / math.log(th[0][0] / th[-1][0])
+        md += [f"Transfer heat against cell size: a power law h^q through the coarsest and finest runs has "
+               f"q = {q:.2f} (each halving of h multiplies it by {0.5 ** q:.2f}).", ""]
     for table, cell in ensembles:
         md += [f"Flaw seeds at {num(cell, '{:.0f}')} m (n = {table['beta']['n']}): " + ", ".join(
             f"{lab} {float(table[k]['mean']):.4g} ± {float(table[k]['std']):.2g} (min {float(table[k]['min']):.4g}, "
