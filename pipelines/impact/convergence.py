@@ -24,14 +24,13 @@ transfer heat (the numerical heat of the grid-particle transfer, `transfer_heat_
 the MPM over the initial energy), and the paper's values (El Mir et al. 2019: 0.85, 1.69).
 Writes DIR/convergence.{csv,md,png}.
 """
-import argparse
 import csv
 import math
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_summary import read_run, total_wall  # noqa: E402
+from run_summary import read_run, run_dirs_args, total_wall  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
 import atomic  # noqa: E402
 
@@ -89,12 +88,8 @@ def richardson(h, f):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("runs", nargs="+")
-    ap.add_argument("--out", required=True)
-    ap.add_argument("--ensemble", action="append", default=[],
-                    help="ensemble.py output directory (flaw seeds at one cell); repeatable")
-    a = ap.parse_args(argv)
+    a = run_dirs_args(__doc__, argv, lambda ap: ap.add_argument(
+        "--ensemble", action="append", default=[], help="ensemble.py output directory (flaw seeds at one cell); repeatable"))
     ensembles = sorted((read_ensemble(e) for e in a.ensemble), key=lambda e: -(e[1] or 0))
     # per quantity the ensemble with the largest seed std (conservative)
     ens = {}
@@ -102,7 +97,6 @@ def main(argv=None):
         for k, row in table.items():
             if row.get("std") not in (None, "") and (k not in ens or float(row["std"]) > float(ens[k]["std"])):
                 ens[k] = dict(row, cell=cell)
-    os.makedirs(a.out, exist_ok=True)
     runs = sorted((read_run(d) for d in a.runs), key=lambda r: -(r["cell_m"] or 0))
     bad = [r for r in runs if r["problems"]]
     for r in bad:

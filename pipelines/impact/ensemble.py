@@ -19,7 +19,6 @@ DIR/ensemble.md. Exit 1 (tables still written, the
 problem named) when a run is incomplete, two runs share a seed, or the runs differ in anything but
 the seed (cell size or impact speed), so that an ensemble of unlike runs is never averaged silently.
 """
-import argparse
 import csv
 import io
 import math
@@ -27,7 +26,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_summary import read_run, total_wall  # noqa: E402
+from run_summary import read_run, run_dirs_args, total_wall  # noqa: E402
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), os.pardir, "lib"))
 import atomic  # noqa: E402
 import mdtable  # noqa: E402
@@ -66,11 +65,7 @@ def check_alike(runs):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("runs", nargs="+")
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args(argv)
-    os.makedirs(a.out, exist_ok=True)
+    a = run_dirs_args(__doc__, argv)
     runs = sorted((read_run(d) for d in a.runs), key=lambda r: (r["seed"] is None, r["seed"] or 0))
     problems = [f"{r['run']}: {p}" for r in runs for p in r["problems"]] + check_alike(runs)
 

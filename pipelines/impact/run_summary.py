@@ -106,5 +106,18 @@ def read_run(run_dir):
     return r
 
 
+def run_dirs_args(doc, argv=None, extra=None):
+    """Command line of the study scripts: RUN_DIR ... --out DIR (created); `extra(parser)` adds options."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("runs", nargs="+")
+    ap.add_argument("--out", required=True)
+    if extra:
+        extra(ap)
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    return a
+
+
 def total_wall(r):
     return sum(v for v in r["wall_s"].values() if _finite(v))
