@@ -144,8 +144,9 @@ def main(argv=None):
         return 2
     os.makedirs(a.out, exist_ok=True)
     mpm = timed(listed(need[0]), "mpm")
-    nbody = timed([need[2]] + listed(need[1]), "spheres")
-    nbody = [it for k, it in enumerate(nbody) if k == 0 or it[0] != nbody[k - 1][0]]  # hand-off = N-body t = 0
+    # the hand-off file carries the MPM's end time; on the N-body clock it is t = 0 (as ssdem-analyse)
+    nbody = [(0.0, need[2])] + timed(listed(need[1]), "spheres")
+    nbody = [it for k, it in enumerate(nbody) if k == 0 or it[0] != nbody[k - 1][0]]  # one per time
     r_t = target_radius(a.run) or 1.0
     md = ["# Figures of " + a.run, ""]
 
