@@ -76,7 +76,7 @@ def target_radius(run):
 def render(pvbatch, kind, chosen, out, label):
     xmf = [os.path.splitext(p)[0] + ".xmf" for _, p in chosen]
     cmd = shlex.split(pvbatch) + [os.path.join(HERE, "render_cutaway.py"), "--kind", kind, "--out", out,
-                                  "--label", label] + xmf
+                                  "--label", label] + xmf + ["--times"] + [repr(t) for t, _ in chosen]
     for _ in range(3):  # xvfb-run -a occasionally loses the race for a display number: try again
         r = subprocess.run(cmd, capture_output=True, text=True)
         if r.returncode == 0 and os.path.isfile(out):

@@ -1,6 +1,7 @@
 """3D cut-away renders of an impact run with ParaView (El Mir et al. 2019, Figs. 4 and 5).
 
-    xvfb-run -a pvbatch render_cutaway.py --kind mpm|spheres --out FIG.png [--label TEXT] FILE.xmf [FILE.xmf ...]
+    xvfb-run -a pvbatch render_cutaway.py --kind mpm|spheres --out FIG.png [--label TEXT] [--times T ...]
+        FILE.xmf [FILE.xmf ...]
 
 Each FILE.xmf is the XDMF sidecar of an mpm-frag particle snapshot (`--kind mpm`) or of an
 ssdem.spheres file (`--kind spheres`: the hand-off spheres and ssdem-grav snapshots). For each
@@ -166,8 +167,12 @@ def main(argv=None):
     ap.add_argument("--kind", choices=("mpm", "spheres"), required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--label", default="", help="prefix of each panel's caption (e.g. 'after hand-off')")
-    ap.add_argument("--time-offset", type=float, default=0.0, help="added to each file's time in the caption")
+    ap.add_argument("--times", type=float, nargs="+",
+                    help="the captions' times, one per file (default: each file's time attribute)")
     a = ap.parse_args(argv)
+    if a.times is not None and len(a.times) != len(a.files):
+        print(f"render_cutaway: {len(a.times)} --times for {len(a.files)} files", file=sys.stderr)
+        return 2
     for f in a.files:
         if not os.path.isfile(f):
             print(f"render_cutaway: {f}: no such file", file=sys.stderr)
@@ -178,8 +183,7 @@ def main(argv=None):
     with tempfile.TemporaryDirectory(dir=os.path.dirname(os.path.abspath(a.out))) as tmp:
         pngs = []
         for k, it in enumerate(items):
-            t = it[5]
-            tt = t + a.time_offset
+            tt = it[5] if a.times is None else a.times[k]
             when = f"{tt / 3600:.2f} h" if tt >= 7200 else f"{tt:.4g} s"
             label = f"{a.label}t = {when}\n{len(it[1])} {'particles' if a.kind == 'mpm' else 'spheres'}"
             p = os.path.join(tmp, f"panel_{k}.png")
