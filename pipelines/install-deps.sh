@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Install the Debian 12 packages this project needs, only those that are missing.
-# Runs apt-get as root (or through sudo). Safe to run repeatedly.
+# Runs apt-get as root (or through sudo). Safe to run repeatedly. Extra package names given as
+# arguments are added (pipelines/impact/figures.mk: paraview python3-paraview xvfb xauth).
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libcli11-dev
       libspdlog-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
-      python3-numpy python3-h5py python3-matplotlib python3-scipy)
+      python3-numpy python3-h5py python3-matplotlib python3-scipy "$@")
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -8,21 +8,16 @@ For each run: every stage's exit code (timing/<stage>.json), the analysis outcom
 momentum errors) must be present and finite, and the audit's mass and momentum errors below
 1e-10. Writes DIR/extremes.md and DIR/extremes.csv; exits 1 if any run fails a check.
 """
-import argparse
 import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from run_summary import STAGES, read_run, total_wall  # noqa: E402
+from run_summary import STAGES, read_run, run_dirs_args, total_wall  # noqa: E402
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("runs", nargs="+")
-    ap.add_argument("--out", required=True)
-    a = ap.parse_args(argv)
-    os.makedirs(a.out, exist_ok=True)
+    a = run_dirs_args(__doc__, argv)
     rows, failed = [], False
     for d in a.runs:
         r = read_run(d)

@@ -3,7 +3,8 @@
 A run directory (pipelines/impact/rules.mk) holds analysis.json (ssdem-analyse summary),
 spheres.audit.json (mpm2spheres audit), fragment/frag_series.csv (MPM energy history),
 timing/<stage>.json ({"stage", "wall_s", "exit_code"})
-and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size is read).
+and .vars/FRAGMENT (the fragment stage's resolved settings, from which the cell size, impact speed
+and flaw seed `run.seed` are read).
 """
 import json
 import math
@@ -29,11 +30,24 @@ def _finite(x):
     return isinstance(x, (int, float)) and math.isfinite(x)
 
 
+def _particle_count(run_dir):
+    """MPM particles at t = 0 (the first snapshot listed in fragment/done), or None."""
+    try:
+        import h5py
+        with open(os.path.join(run_dir, "fragment", "done")) as f:
+            first = f.readline().strip()
+        with h5py.File(first, "r") as h:
+            return int(h["particles/mass"].shape[0])
+    except (ImportError, OSError, KeyError, ValueError):
+        return None
+
+
 def read_run(run_dir):
     """Dict of the run's settings, outcomes, stage times and exit codes; missing pieces are None."""
-    r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "M_LR_over_M_PB": None, "beta": None,
+    r = {"run": run_dir, "cell_m": None, "speed_m_s": None, "seed": None, "M_LR_over_M_PB": None, "beta": None,
          "bound_mass_fraction": None, "ke_loss": None, "mass_rel_diff": None, "momentum_rel_diff": None,
-         "outflow_particles": None, "spheres": None, "mpm_energy_change": None, "wall_s": {}, "exit_code": {},
+         "outflow_particles": None, "spheres": None, "mpm_energy_change": None,
+         "transfer_heat_frac": None, "particles": None, "wall_s": {}, "exit_code": {},
          "problems": []}
     vars_path = os.path.join(run_dir, ".vars", "FRAGMENT")
     try:
@@ -42,6 +56,8 @@ def read_run(run_dir):
         r["cell_m"] = float(m.group(1)) if m else None
         m = re.search(r"body\[1\]\.velocity=\[0,0,-([0-9.eE+-]+)\]", text)
         r["speed_m_s"] = float(m.group(1)) if m else None
+        m = re.search(r"run\.seed=([0-9]+)", text)
+        r["seed"] = int(m.group(1)) if m else None
     except OSError:
         r["problems"].append(f"{vars_path} missing")
     for st in STAGES:
@@ -70,8 +86,11 @@ def read_run(run_dir):
         rows = read_rows(os.path.join(run_dir, "fragment", "frag_series.csv"))
         e0, e1 = float(rows[0]["total_J"]), float(rows[-1]["total_J"])
         r["mpm_energy_change"] = (e1 - e0) / e0 if e0 else None
+        # numerical heat of the grid-particle transfer (DeBar fix-up, PIC blend), per initial energy
+        r["transfer_heat_frac"] = float(rows[-1]["transfer_heat_J"]) / e0 if e0 else None
     except (OSError, ValueError, IndexError, KeyError, TypeError):
         r["problems"].append("fragment/frag_series.csv missing or unreadable")
+    r["particles"] = _particle_count(run_dir)
     au = _load(os.path.join(run_dir, "spheres.audit.json"))
     if au is None:
         r["problems"].append("spheres.audit.json missing or unreadable")
@@ -85,6 +104,19 @@ def read_run(run_dir):
             if not _finite(r[k]):
                 r["problems"].append(f"audit {k} = {r[k]!r} (not finite)")
     return r
+
+
+def run_dirs_args(doc, argv=None, extra=None):
+    """Command line of the study scripts: RUN_DIR ... --out DIR (created); `extra(parser)` adds options."""
+    import argparse
+    ap = argparse.ArgumentParser(description=doc.split("\n")[0])
+    ap.add_argument("runs", nargs="+")
+    ap.add_argument("--out", required=True)
+    if extra:
+        extra(ap)
+    a = ap.parse_args(argv)
+    os.makedirs(a.out, exist_ok=True)
+    return a
 
 
 def total_wall(r):

@@ -1,0 +1,48 @@
+# Resolution study of the whole chain with flaw-seed scatter (issue 17, item 5, as far as 2 cores go).
+# Included by rules.mk.
+#
+#   make -C pipelines impact-convergence                               every reading, cell and seed below
+#   make -C pipelines impact-convergence IMPACT_CONV_IMPACTORS=2420 IMPACT_CONV_CELLS=500   one run
+#
+# For each impactor diameter in IMPACT_CONV_IMPACTORS (the paper's stated 1.21 km, and 2.42 km, the
+# diameter its Q = 1.13e8 erg/g needs) and each MPM cell in IMPACT_CONV_CELLS, one run of the impact
+# (seed 2019) in $(IMPACT_CONV_DIR)/d<D>/cells/c<cell>; at IMPACT_CONV_SEED_CELL the same run again for
+# each of IMPACT_CONV_SEEDS in d<D>/seeds-c<cell>/s<seed>. The N-body stage is the demo's: 3 km spheres
+# (COARSEN = 3 km / cell), 1 h, dt for 4 steps per contact of the lightest pair; the MPM runs 10 s.
+# Each run stops after the analysis (no report); every stage is rerun only when its inputs change.
+# Then for each reading convergence.py writes d<D>/convergence.{md,csv,png} over the cell runs that
+# exist (Richardson from the three finest, the seed scatter from every d<D>/ensemble-c<cell>) and
+# ensemble.py d<D>/ensemble-c<cell>/ensemble.{md,csv} over the seed-2019 run at IMPACT_CONV_SEED_CELL
+# and the seed runs. Seeds at a second cell: IMPACT_CONV_SEED_CELL=500 IMPACT_CONV_CELLS=500.
+IMPACT_CONV_IMPACTORS ?= 1210 2420
+IMPACT_CONV_CELLS     ?= 1000 750 500 375
+IMPACT_CONV_SEED_CELL ?= 1000
+IMPACT_CONV_SEEDS     ?= 1 2
+IMPACT_CONV_DIR       ?= $(RUNS)/impact-convergence
+# N-body snapshots at 3 s and 30 s after the hand-off too (damage profiles, cf. paper Fig. 6)
+CONV_TIMES = MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[3.0, 30.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
+  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
+# one run: $(call conv_run,impactor diameter,cell,run directory,seed)
+conv_ppc = $$(awk "BEGIN{p = int($(1)/500 + 0.999); print (p < 2 ? 2 : p)}")
+conv_run = $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact-analyse IMPACTOR_DIAMETER=$(1) CELL=$(2) RUN=$(3) SEED=$(4) \
+  COARSEN=$$(awk "BEGIN{print int(3000/$(2) + 0.5)}") MPM_SETS="--set body[1].ppc=$(call conv_ppc,$(2))" $(CONV_TIMES)
+
+.PHONY: impact-convergence
+impact-convergence: tools ## both impactor readings at 1000/750/500/375 m cells + seeds at 1000 m: table, Richardson, seed scatter
+	for d in $(IMPACT_CONV_IMPACTORS); do \
+	  for c in $(IMPACT_CONV_CELLS); do \
+	    $(call conv_run,$$d,$$c,$(IMPACT_CONV_DIR)/d$$d/cells/c$$c,2019) || exit $$?; \
+	  done; \
+	  if [ -n "$(strip $(IMPACT_CONV_SEEDS))" ]; then \
+	    $(call conv_run,$$d,$(IMPACT_CONV_SEED_CELL),$(IMPACT_CONV_DIR)/d$$d/cells/c$(IMPACT_CONV_SEED_CELL),2019) || exit $$?; \
+	    for s in $(IMPACT_CONV_SEEDS); do \
+	      $(call conv_run,$$d,$(IMPACT_CONV_SEED_CELL),$(IMPACT_CONV_DIR)/d$$d/seeds-c$(IMPACT_CONV_SEED_CELL)/s$$s,$$s) || exit $$?; \
+	    done; \
+	    $(PY) $(IMPACT_DIR)/ensemble.py $(IMPACT_CONV_DIR)/d$$d/cells/c$(IMPACT_CONV_SEED_CELL) \
+	      $$(for s in $(IMPACT_CONV_SEEDS); do echo $(IMPACT_CONV_DIR)/d$$d/seeds-c$(IMPACT_CONV_SEED_CELL)/s$$s; done) \
+	      --out $(IMPACT_CONV_DIR)/d$$d/ensemble-c$(IMPACT_CONV_SEED_CELL) > /dev/null || exit $$?; \
+	  fi; \
+	  $(PY) $(IMPACT_DIR)/convergence.py $$(ls -d $(IMPACT_CONV_DIR)/d$$d/cells/c*/) \
+	    $$(for e in $(IMPACT_CONV_DIR)/d$$d/ensemble-c*/ensemble.csv; do test -f $$e && echo --ensemble $$(dirname $$e); done) \
+	    --out $(IMPACT_CONV_DIR)/d$$d || exit $$?; \
+	done
