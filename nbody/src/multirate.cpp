@@ -62,6 +62,7 @@ void Simulation::setup_multirate(const SimState* st) {
   hopen_.assign(n, 0.0);
   lstats_.now.assign(kMaxLevel + 1, 0);
   lstats_.sphere_time.assign(kMaxLevel + 1, 0.0);
+  for (std::uint8_t l : level_) ++lstats_.now[std::min<int>(l, kMaxLevel)];
   if (contacts_) {
     contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
     near_gap_ = 0.5 * contacts_->skin();
@@ -241,18 +242,7 @@ void Simulation::multirate_forces() {
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_);
     }
   }
-  const Vec3 g = cfg_.uniform_g;
-  const bool ct = contacts_ != nullptr;
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t i = active_[r];
-    Vec3 a = g;
-    if (ct) {
-      a += F_[i] / sp_.m[i];
-      alpha_[i] = T_[i] / sp_.inertia(i);
-    }
-    a_[i] = a;
-  }
+  accelerations(active_.data(), na);
 }
 
 void Simulation::step_multirate() {

@@ -155,10 +155,16 @@ void Simulation::compute_forces(bool initial) {
     times_.cpu_contacts += c2 - c1;
   }
   if (cfg_.self_gravity && initial) compute_gravity(false);
+  accelerations(nullptr, n);
+}
+
+// a = g_uniform + F/m, alpha = T/I for spheres idx[0..count) (all of 0..count if idx is null).
+void Simulation::accelerations(const std::uint32_t* idx, std::size_t count) {
   const Vec3 g = cfg_.uniform_g;
   const bool ct = contacts_ != nullptr;
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (count >= kOmpMin)
+  for (std::size_t r = 0; r < count; ++r) {
+    const std::size_t i = idx ? idx[r] : r;
     Vec3 a = g;
     if (ct) {
       a += F_[i] / sp_.m[i];

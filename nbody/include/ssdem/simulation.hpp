@@ -192,6 +192,7 @@ class Simulation {
   int pair_level(std::uint32_t i, std::uint32_t j) const;
   int wall_level(std::uint32_t i) const;  ///< level of i's nearest-wall constraint (255: none near)
   void multirate_forces();
+  void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
   std::vector<std::uint8_t> level_, sync_, promoted_;
   std::vector<std::int64_t> topen_;
