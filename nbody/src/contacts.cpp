@@ -56,17 +56,28 @@ ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& 
   });
 }
 
+ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
+                                    const std::vector<Vec3>& wpred, const Subset& sub,
+                                    std::vector<Vec3>& F, std::vector<Vec3>& T) {
+  return dispatch_parts(params_.parts, [&](auto parts) {
+    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, 0.0, F, T, &sub);
+  });
+}
+
+// sub == nullptr: all pairs and spheres with step h; else the pairs/spheres of the subset, each
+// with its own step (multi-rate; the loops are the same, only the index and h come from sub).
 template <unsigned PARTS>
 ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
-                                         const std::vector<Vec3>& wpred, double h,
-                                         std::vector<Vec3>& F, std::vector<Vec3>& T) {
+                                         const std::vector<Vec3>& wpred, double h0,
+                                         std::vector<Vec3>& F, std::vector<Vec3>& T,
+                                         const Subset* sub) {
   const std::size_t n = sp.size();
   if (xref_.size() != n || import_)
     throw std::logic_error("ContactSystem::compute: no pair list for these spheres (update_neighbors first)");
   ContactStats st;
   st.rebuilt = rebuilt_since_compute_;
   rebuilt_since_compute_ = false;
-  const std::size_t P = pi_.size();
+  const std::size_t P = sub ? sub->pairs.size() : pi_.size();
   F.resize(n);
   T.resize(n);
   std::size_t ncont = 0;
@@ -76,7 +87,9 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     Worst lw;
     std::size_t lc = 0;
 #pragma omp for schedule(static)
-    for (std::size_t p = 0; p < P; ++p) {
+    for (std::size_t q = 0; q < P; ++q) {
+      const std::size_t p = sub ? sub->pairs[q] : q;
+      const double h = sub ? sub->hpair[q] : h0;
       const std::size_t i = pi_[p], j = pj_[p];
       bool act = ph_.active[p];
       PairResult res;
@@ -103,12 +116,15 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   const std::size_t nw = walls_.size();
   std::size_t nwc = 0;
   Worst wworst;
-#pragma omp parallel if (n >= kOmpMin)
+  const std::size_t ns = sub ? sub->spheres.size() : n;
+#pragma omp parallel if (ns >= kOmpMin)
   {
     Worst lw;
     std::size_t lc = 0;
 #pragma omp for schedule(static)
-    for (std::size_t k = 0; k < n; ++k) {
+    for (std::size_t r = 0; r < ns; ++r) {
+      const std::size_t k = sub ? sub->spheres[r] : r;
+      const double h = sub ? sub->hsphere[r] : h0;
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
       for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
         const std::uint32_t p = jpair_[q];

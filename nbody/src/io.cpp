@@ -160,6 +160,11 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
       h5::write_dataset(g, "a_prev", ap.data(), n, 3, "m/s^2");
       h5::write_dataset(g, "alpha_prev", alp.data(), n, 3, "rad/s^2");
     }
+    if (!st.level.empty()) {  // multi-rate levels and previous steps (multirate.hpp)
+      std::vector<std::int32_t> lv(st.level.begin(), st.level.end());
+      h5::write_dataset(g, "level", lv.data(), n, 1, "1");
+      h5::write_dataset(g, "tau_prev", st.tau_prev.data(), n, 1, "s");
+    }
     h5::Handle hg = h5::create_group(g, "history");
     const std::size_t P = st.history.size();
     std::vector<std::uint64_t> ia(P), ib(P);
@@ -232,6 +237,13 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     if (h5::exists(f, "/ssdem_state/a_prev")) {
       st.a_prev = unflat(h5::read_doubles(f, "/ssdem_state/a_prev", -1, 3, path));
       st.alpha_prev = unflat(h5::read_doubles(f, "/ssdem_state/alpha_prev", -1, 3, path));
+    }
+    if (h5::exists(f, "/ssdem_state/level")) {
+      const std::vector<std::int32_t> lv = h5::read_i32(f, "/ssdem_state/level", -1, 1, path);
+      for (std::int32_t l : lv)
+        if (l < 0 || l > 30) throw common::InputError(path + ": /ssdem_state/level must be in [0, 30]");
+      st.level.assign(lv.begin(), lv.end());
+      st.tau_prev = h5::read_doubles(f, "/ssdem_state/tau_prev", -1, 1, path);
     }
     const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
     const long long P = static_cast<long long>(ia.size());

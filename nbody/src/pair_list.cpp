@@ -103,7 +103,7 @@ bool ContactSystem::listed(std::size_t a, std::size_t b) const {
 
 bool ContactSystem::local_update(const Spheres& sp) {
   const std::size_t n = sp.size();
-  const double lim2 = 0.25 * skin_ * skin_;
+  const double lim2 = reinsert_frac_ * reinsert_frac_ * skin_ * skin_;
   moved_.clear();
   if (n >= kOmpMin) {
     mark_.resize(n);

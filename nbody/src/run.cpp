@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -28,6 +29,7 @@ bool is_output(const std::string& n) {
   std::string h5 = n;
   if (n.size() > 4 && n.compare(n.size() - 4, 4, ".xmf") == 0) h5 = n.substr(0, n.size() - 4) + ".h5";
   return h5 == "checkpoint.h5" || h5 == "failed_state.h5" || n == "series.csv" || n == "series.csv.partial" ||
+         n == "levels.csv" || n == "levels.csv.partial" ||
          n == "run_info.txt" || (h5.rfind("snap_", 0) == 0 && h5.size() > 3 && h5.compare(h5.size() - 3, 3, ".h5") == 0);
 }
 // The step of a snapshot file name snap_<step>.h5 / .xmf, or -1.
@@ -83,6 +85,35 @@ std::string cadence_text(const SimConfig& c) {
     os << "cadence adaptive (gravity.tolerance = " << c.gravity_tolerance << ", max_every = " << c.gravity_max_every << ")";
   else
     os << "cadence fixed, every " << c.gravity_every << " steps";
+  return os.str();
+}
+
+// levels.csv (multi-rate runs): spheres per level at each series row (a gravity-block boundary),
+// promotions in the middle of a step and sphere force evaluations so far.
+constexpr int kLevelColumns = 16;
+common::SeriesFormat levels_format() {
+  std::vector<common::SeriesColumn> cols = {{"step", ""}, {"time_s", "s"}};
+  for (int l = 0; l < kLevelColumns; ++l) cols.push_back({"n_level" + std::to_string(l), ""});
+  cols.push_back({"n_level_coarser", ""});
+  cols.push_back({"promotions", ""});
+  cols.push_back({"sphere_evaluations", ""});
+  return common::SeriesFormat(cols, {.precision = 17});
+}
+
+// Levels used over the run: share of the simulated sphere-time per level.
+std::string levels_report(const Simulation& sim) {
+  const LevelStats& l = sim.level_stats();
+  double tot = 0;
+  for (double t : l.sphere_time) tot += t;
+  std::ostringstream os;
+  os << "multi-rate levels (step = 2^l dt): sphere-time share";
+  for (std::size_t k = 0; k < l.sphere_time.size(); ++k)
+    if (l.sphere_time[k] > 0) os << " l" << k << " " << l.sphere_time[k] / tot;
+  os << "; final histogram " << l.histogram_text() << "; " << l.promotions << " promotions in mid-step, "
+     << l.evaluations << " sphere evaluations in " << sim.times().steps << " base steps ("
+     << static_cast<double>(l.evaluations) / std::max<double>(1.0, static_cast<double>(sim.times().steps) *
+                                                                      static_cast<double>(sim.spheres().size()))
+     << " of single-rate)";
   return os.str();
 }
 
@@ -149,6 +180,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     if (common::RunDirectory::staging_of(out_dir, restart).empty()) {
       // continuing a published run: its series and snapshots up to the checkpoint become part of this one
       rd.carry("series.csv");
+      if (std::filesystem::exists(std::filesystem::path(out_dir) / "levels.csv")) rd.carry("levels.csv");
       for (const auto& e : std::filesystem::directory_iterator(out_dir)) {
         const std::string n = e.path().filename().string();
         const std::int64_t s = snap_step(n);
@@ -181,7 +213,12 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     os << info << "spheres: " << sim->spheres().size() << "\ndt = " << cfg.dt
        << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
        << ", " << cadence_text(cfg) << "\ncontacts: " << (cfg.contacts ? "on" : "off")
-       << "\nk_n = " << cfg.contact.kn << " N/m, parts mask = " << cfg.contact.parts << "\n";
+       << "\nk_n = " << cfg.contact.kn << " N/m, parts mask = " << cfg.contact.parts << "\n"
+       << "time stepping: "
+       << (cfg.multirate ? "multi-rate (levels of 2^l dt, per-pair steps tau_c / " +
+                               std::to_string(cfg.pair_steps_per_contact) + ")"
+                         : std::string("single rate"))
+       << "\n";
     run_info = os.str();
     common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info);
     spdlog::info("ssdem-grav: {} spheres, dt = {} s, gravity {} ({}), contacts {}",
@@ -215,7 +252,12 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   common::SeriesFile series_file(series_path, series_format(bonds != nullptr),
                                  restart.empty() ? std::nullopt : std::optional(sim->step_count()));
 
-  double E0 = NAN;
+  std::optional<common::SeriesFile> levels_file;
+  if (cfg.multirate)
+    levels_file.emplace((std::filesystem::path(dir) / "levels.csv").string(), levels_format(),
+                        restart.empty() ? std::nullopt : std::optional(sim->step_count()));
+  double E0 = NAN, last_level_log = -INFINITY;
+  const double progress_dt = sc.real("output.progress_interval");
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   auto write_row = [&]() {
     const Diagnostics d = sim->diagnostics();
@@ -232,6 +274,21 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     series_file.write(row);
     const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
     progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
+    if (levels_file) {
+      const LevelStats& ls = sim->level_stats();
+      common::SeriesRow lr = levels_file->row();
+      lr.integer(sim->step_count()).num(sim->time());
+      std::int64_t coarser = 0;
+      for (std::size_t l = kLevelColumns; l < ls.now.size(); ++l) coarser += ls.now[l];
+      for (int l = 0; l < kLevelColumns; ++l)
+        lr.integer(static_cast<std::size_t>(l) < ls.now.size() ? ls.now[l] : 0);
+      lr.integer(coarser).integer(ls.promotions).integer(ls.evaluations);
+      levels_file->write(lr);
+      if (progress.elapsed() - last_level_log >= progress_dt) {
+        last_level_log = progress.elapsed();
+        spdlog::info("levels at t = {:.6g} s (step = 2^l dt): {}", sim->time(), ls.histogram_text());
+      }
+    }
   };
   auto checkpoint = [&]() {
     const SimState st = sim->state();
@@ -275,6 +332,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       if (sig != 0) {
         checkpoint();
         series_file.commit();
+        if (levels_file) levels_file->commit();
         spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", sig, s, ckpt_path);
         return 128 + sig;
       }
@@ -297,13 +355,16 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     }
     e.set_saved_state(failed);
     series_file.commit();
+    if (levels_file) levels_file->commit();
     throw;
   }
   checkpoint();
   series_file.commit();
+  if (levels_file) levels_file->commit();
   {
     std::string tail;
     if (cfg.self_gravity) tail += cadence_report(*sim) + "\n";
+    if (cfg.multirate) tail += levels_report(*sim) + "\n";
     if (bonds) tail += bond_report(*sim) + "\n";
     if (!tail.empty()) {
       spdlog::info("{}", tail.substr(0, tail.size() - 1));
@@ -315,8 +376,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
   const PhaseTimes& t = sim->times();
   spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f} ({} rebuilds), "
-               "contacts {:.3f}, integrate {:.3f}",
-               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.neighbour_builds, t.contacts, t.integrate);
+               "contacts {:.3f}, integrate {:.3f} (levels {:.3f})",
+               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.neighbour_builds, t.contacts, t.integrate,
+               t.levels);
   return 0;
 }
 

@@ -60,6 +60,9 @@ common::Schema ssdem_schema() {
              "timestep; 0 = from the dt rule: tau_min / time.steps_per_contact");
   s.add_real("time.steps_per_contact", 30.0, "1", 1.0, 1e6,
              "steps per contact duration used by the dt rule (pkdgrav demparams default 30)");
+  s.add_bool("time.multirate", false,
+             "multi-rate block time steps: each contact pair steps at 2^l dt <= its own contact time / "
+             "time.steps_per_contact, spheres with no contact in reach once per gravity block (nbody/README.md)");
   s.add_real("time.min_steps_per_contact", 10.0, "1", 1.0, 1e6,
              "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
   // initial condition
@@ -244,6 +247,8 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
   c.contacts = sc.boolean("contact.enabled");
   c.min_steps_per_contact = sc.real("time.min_steps_per_contact");
   c.dt = sc.real("time.dt");
+  c.multirate = sc.boolean("time.multirate");
+  c.pair_steps_per_contact = sc.real("time.steps_per_contact");
   double mmin = INFINITY, mmax = 0, smin = INFINITY, M = 0;
   Vec3 com = Vec3::Zero();
   for (std::size_t i = 0; i < sp.size(); ++i) {

@@ -26,10 +26,13 @@ double cpu_now() {
 }
 }  // namespace
 
+double Simulation::cpu_now_() { return cpu_now(); }
+
 Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(sp)) {
   setup();
   setup_bonds(std::move(cfg_.bonds));
   cfg_.bonds = BondSet{};
+  setup_multirate(nullptr);
   const std::size_t n = sp_.size();
   a_.assign(n, Vec3::Zero());
   alpha_.assign(n, Vec3::Zero());
@@ -43,6 +46,7 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
   setup();
   setup_bonds(std::move(st.bonds));
   cfg_.bonds = BondSet{};
+  setup_multirate(&st);
   const std::size_t n = sp_.size();
   if (st.a.size() != n || st.alpha.size() != n || (cfg_.self_gravity && st.ag.size() != n))
     throw common::InputError("restart state: acceleration arrays do not match the sphere count");
@@ -151,10 +155,16 @@ void Simulation::compute_forces(bool initial) {
     times_.cpu_contacts += c2 - c1;
   }
   if (cfg_.self_gravity && initial) compute_gravity(false);
+  accelerations(nullptr, n);
+}
+
+// a = g_uniform + F/m, alpha = T/I for spheres idx[0..count) (all of 0..count if idx is null).
+void Simulation::accelerations(const std::uint32_t* idx, std::size_t count) {
   const Vec3 g = cfg_.uniform_g;
   const bool ct = contacts_ != nullptr;
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
+#pragma omp parallel for schedule(static) if (count >= kOmpMin)
+  for (std::size_t r = 0; r < count; ++r) {
+    const std::size_t i = idx ? idx[r] : r;
     Vec3 a = g;
     if (ct) {
       a += F_[i] / sp_.m[i];
@@ -165,6 +175,10 @@ void Simulation::compute_forces(bool initial) {
 }
 
 void Simulation::step() {
+  if (cfg_.multirate) {
+    step_multirate();
+    return;
+  }
   const std::size_t n = sp_.size();
   const double h = cfg_.dt, hh = 0.5 * h;
   const bool spin = contacts_ != nullptr;
@@ -240,6 +254,7 @@ void Simulation::close_gravity_block() {
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));
   block_ = std::max(next, 1);
+  if (cfg_.multirate) block_ = floor_pow2(block_);  // levels need power-of-two blocks
 }
 
 void Simulation::check_state() {
@@ -324,6 +339,8 @@ SimState Simulation::state() const {
   s.alpha_prev = alpha_prev_;
   if (contacts_) s.history = contacts_->export_history(sp_);
   if (bonds_) s.bonds = bonds_->bonds();
+  s.level = level_;
+  s.tau_prev = tau_prev_;
   return s;
 }
 
@@ -335,6 +352,7 @@ double Simulation::bytes_per_sphere() const {
   if (contacts_ && cfg_.extrapolated_predictor) b += 2 * 24;     // a_prev, alpha_prev
   if (tree_) b += tree_->bytes_per_sphere(n);
   if (bonds_) b += bonds_->bytes_per_sphere(n);
+  if (cfg_.multirate) b += 4 + 8 + 2 * 8 + 4;  // levels/flags, opening step, h_open, tau_prev, active
   return b;
 }
 

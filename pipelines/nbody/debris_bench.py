@@ -63,7 +63,7 @@ def run(exe, scene, sets, outdir):
     n = re.search(r"(\d+) spheres", p.stdout + p.stderr)
     return dict(wall=wall, steps=int(m[1]), gravity=float(m[2]), neighbours=float(m[3]),
                 rebuilds=int(m[4]) if m[4] else -1, contacts=float(m[5]), integrate=float(m[6]),
-                n=int(n[1]) if n else 0)
+                n=int(n[1]) if n else 0, log=(p.stdout + p.stderr)[-4000:])
 
 
 def row(label, r, n):

@@ -103,3 +103,38 @@ nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M
 nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's MPM output; ~15 min)
 	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
 	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
+
+# nbody-paper-bench: issue 15's "impact debris, the paper's method": the demo impact's last MPM
+# snapshot handed off with one sphere per cell (COARSEN=1, 8 225 spheres of 1 km), every contact
+# resolved by >= 20 steps, PAPER_TIME simulated seconds on 2 threads; new = multi-rate
+# (time.multirate = true, error-controlled gravity cadence up to PAPER_MAX_EVERY steps), old =
+# PAPER_OLD (e.g. main's ssdem-grav: single rate, gravity every 10), interleaved. Reports wall time,
+# phases, us per sphere-step, the level histogram over time and a linear 4.5 h extrapolation.
+PAPER_OLD       ?=
+PAPER_TIME      ?= 60
+PAPER_ROUNDS    ?= 1
+PAPER_MAX_EVERY ?= 256
+PAPER_SPHERES    = $(RUNS)/nbody-paper/spheres_c1.h5
+.PHONY: nbody-paper-bench
+nbody-paper-bench: ## paper-method debris (8 225 spheres, 20 steps/contact): wall, phases, levels (old vs new with PAPER_OLD=)
+	cmake --build $(BUILD) --target ssdem-grav mpm2spheres -j $(JOBS)
+	test -f $(RUNS)/demo/fragment/done || $(MAKE) -f $(ROOT)/pipelines/Makefile $(RUNS)/demo/fragment/done \
+	  RUN=$(RUNS)/demo CELL=1000 COARSEN=3 'MPM_SETS=--set body[1].ppc=2' MPM_TIME=10
+	mkdir -p $(RUNS)/nbody-paper
+	test -f $(PAPER_SPHERES) || $(BIN_HANDOFF) -i $(RUNS)/demo/fragment/final.h5 -o $(PAPER_SPHERES) \
+	  --method paper --coarsen 1 $$(test -f $(RUNS)/demo/fragment/frag_outflow.h5 && echo --outflow $(RUNS)/demo/fragment/frag_outflow.h5)
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/paper_bench.py $(or $(PAPER_OLD),-) $(BIN_NBODY) $(PAPER_SPHERES) \
+	  $(RUNS)/nbody-paper --time $(PAPER_TIME) --rounds $(PAPER_ROUNDS) --max-every $(PAPER_MAX_EVERY)
+
+# nbody-multirate-bench: multi-rate stepping's stiff and extreme cases (all in one pile: overhead
+# vs single rate, MR_OLD=<old ssdem-grav> too; 10^4 isolated spheres: gravity only; 10^5 spheres:
+# phase split and the serial level bookkeeping's share).
+MR_OLD    ?=
+MR_ROUNDS ?= 2
+MR_CASES  ?= pile,isolated,large
+.PHONY: nbody-multirate-bench
+nbody-multirate-bench: ## multi-rate: one-pile overhead, 1e4 isolated spheres, 1e5 phase split (MR_OLD= to compare)
+	cmake --build $(BUILD) --target ssdem-grav nbody-dense-pile -j $(JOBS)
+	mkdir -p $(RUNS)/nbody-multirate
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/multirate_bench.py $(BUILD) $(RUNS)/nbody-multirate --rounds $(MR_ROUNDS) \
+	  --cases $(MR_CASES) $(if $(MR_OLD),--old $(MR_OLD))

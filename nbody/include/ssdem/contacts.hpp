@@ -85,6 +85,28 @@ class ContactSystem {
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
                        std::vector<Vec3>& T);
+  /// The pairs and spheres of one multi-rate substep (multirate.hpp): listed pairs (indices into
+  /// the pair list, ascending) evaluated with their own step hpair, and the spheres whose F and T
+  /// are gathered (ascending; wall contacts with hsphere). Every pair of a listed sphere that is
+  /// in contact must be in `pairs` (the multi-rate level rule guarantees it).
+  struct Subset {
+    std::vector<std::uint32_t> pairs, spheres;
+    std::vector<double> hpair, hsphere;
+  };
+  /// compute() restricted to a Subset: F and T are written for its spheres only.
+  ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
+                       const std::vector<Vec3>& wpred, const Subset& sub, std::vector<Vec3>& F,
+                       std::vector<Vec3>& T);
+  /// Re-insert a sphere once it moved more than f * skin from its reference position (default
+  /// 1/2). With f < 1/2 every pair with a gap below (1 - 2 f) * skin is listed (multi-rate uses
+  /// f = 1/4: pairs closer than skin/2 are always listed, whatever the list's history).
+  void set_reinsert_fraction(double f) { reinsert_frac_ = f; }
+  double reinsert_fraction() const { return reinsert_frac_; }
+  /// CSR of the pair list: pairs p in [row_i()[k], row_i()[k+1]) have k as i member; pairs
+  /// jpair()[q], q in [row_j()[k], row_j()[k+1]), have k as j member.
+  const std::vector<std::uint32_t>& row_i() const { return irow_; }
+  const std::vector<std::uint32_t>& row_j() const { return jrow_; }
+  const std::vector<std::uint32_t>& jpair() const { return jpair_; }
   /// Elastic energy stored in all current contacts [J] (serial, deterministic).
   double elastic_energy(const Spheres& sp) const;
   /// Active contacts as records keyed by ids (sorted by pair order).
@@ -120,12 +142,13 @@ class ContactSystem {
   template <unsigned PARTS>
   ContactStats compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                             const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
-                            std::vector<Vec3>& T);
+                            std::vector<Vec3>& T, const Subset* sub = nullptr);
 
   ContactParams params_;
   ContactCoeffs coeffs_;
   std::vector<Plane> walls_;
   double skin_;
+  double reinsert_frac_ = 0.5;
 
   // pair list (i < j), sorted
   std::vector<std::uint32_t> pi_, pj_;

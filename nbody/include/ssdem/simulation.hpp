@@ -51,6 +51,7 @@
 #include "ssdem/bonds.hpp"
 #include "ssdem/contacts.hpp"
 #include "ssdem/gravity.hpp"
+#include "ssdem/multirate.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
@@ -73,6 +74,8 @@ struct SimConfig {
   double min_steps_per_contact = 10.0;
   bool extrapolated_predictor = true;  ///< false: pkdgrav predictor v_{n+1/2} + (h/2) a_n
   BondSet bonds;  ///< bonds of a fresh start (bonds.hpp; a restart takes SimState::bonds); needs contacts
+  bool multirate = false;              ///< block time steps on power-of-two levels (multirate.hpp)
+  double pair_steps_per_contact = 30;  ///< N of the per-pair level rule (time.steps_per_contact)
 };
 
 /// The complete dynamic state (what a checkpoint holds): restart from it is bit-identical.
@@ -86,6 +89,8 @@ struct SimState {
   std::vector<Vec3> a_prev, alpha_prev;  ///< previous contact accelerations (predictor); may be empty
   std::vector<HistoryRecord> history;
   BondSet bonds;  ///< bonds with their state (empty: none)
+  std::vector<std::uint8_t> level;  ///< multi-rate level per sphere (empty: single rate / all 0)
+  std::vector<double> tau_prev;     ///< multi-rate: length of each sphere's previous step [s]
 };
 
 struct Diagnostics {
@@ -114,6 +119,7 @@ struct CadenceStats {
 struct PhaseTimes {
   double gravity = 0, neighbours = 0, contacts = 0, integrate = 0;
   double cpu_gravity = 0, cpu_neighbours = 0, cpu_contacts = 0, cpu_integrate = 0;
+  double levels = 0;  ///< multi-rate level rule and equalisation (wall; included in `integrate`)
   std::int64_t steps = 0, gravity_evals = 0;
   std::int64_t neighbour_builds = 0;  ///< pair-list rebuilds (in `neighbours`; not the one at a restart)
 };
@@ -135,6 +141,9 @@ class Simulation {
   /// Blocks never extend past this step (the run's last step); 0 = no limit.
   void set_end_step(std::int64_t s) { end_step_ = s; }
   const CadenceStats& cadence_stats() const { return cadence_; }
+  /// Multi-rate levels (empty arrays in single-rate runs).
+  const LevelStats& level_stats() const { return lstats_; }
+  const std::vector<std::uint8_t>& levels() const { return level_; }
   void run(std::int64_t nsteps) {
     for (std::int64_t k = 0; k < nsteps; ++k) step();
   }
@@ -173,6 +182,26 @@ class Simulation {
   void compute_gravity(bool with_pot);
   void check_state();
   void close_gravity_block();
+  // multi-rate (multirate.cpp)
+  void setup_multirate(const SimState* st);
+  void step_multirate();
+  void assign_levels(int tz, int L);
+  void equalise_levels(int tz);
+  bool lower_level(std::uint32_t i, int target, int tz, std::vector<std::uint32_t>& work);
+  bool near_pair(std::uint32_t i, std::uint32_t j) const;
+  int pair_level(std::uint32_t i, std::uint32_t j) const;
+  int wall_level(std::uint32_t i) const;  ///< level of i's nearest-wall constraint (255: none near)
+  void multirate_forces();
+  void accelerations(const std::uint32_t* idx, std::size_t count);
+  static double cpu_now_();
+  std::vector<std::uint8_t> level_, sync_, promoted_;
+  std::vector<std::int64_t> topen_;
+  std::vector<double> hopen_, tau_prev_;
+  std::vector<std::uint32_t> active_, work_;
+  ContactSystem::Subset subset_;
+  PairClock clock_;
+  LevelStats lstats_;
+  double near_gap_ = 0.0;
 
   SimConfig cfg_;
   Spheres sp_;

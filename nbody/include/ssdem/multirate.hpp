@@ -1,0 +1,118 @@
+/// @file multirate.hpp
+/// Multi-rate block time steps for the contact dynamics (`time.multirate = true`).
+///
+/// Scheme (block time steps on power-of-two levels, as pkdgrav's rungs: Quinn, Katz, Stadel &
+/// Lake 1997, astro-ph/9710043 §3; Stadel 2001, PhD thesis §3.3; second-order KDK on every
+/// level). The base step h is time.dt (the dt rule: the shortest contact / N). A sphere on level
+/// l steps with h_l = 2^l h (level 0 = the base step; pkdgrav's rung r_max - l). Self-gravity
+/// keeps its impulse-RESPA outer block (simulation.hpp) of K = 2^L base steps (block lengths are
+/// rounded down to powers of two), levels run 0 .. L inside it, so a sphere with no contact in
+/// reach takes one inner step per gravity block ("long steps sized by gravity": the block length
+/// is the error-controlled gravity cadence). Within a block, at base substep s (0 <= s < K):
+///   open:   every sphere synchronised at s (s mod 2^l = 0) kicks v += (h_l/2) a, w likewise;
+///   drift:  EVERY sphere drifts x += h v (positions are synchronised at every base step);
+///   levels: spheres synchronised at s+1 take their new level (rule below), then the near pairs
+///           are equalised (rule below), which may promote a sphere in the middle of its step;
+///   forces: contacts of the synchronised ("active") spheres, each pair with its own step;
+///   close:  active spheres kick v += (tau/2 - h_open) a_old + (tau/2) a_new, with tau the time
+///           since their opening kick and h_open the half-step of that kick; for a sphere closing
+///           on schedule tau/2 = h_open and this is the KDK closing kick (v += (h_l/2) a_new).
+/// Contact step per pair. A pair (i, j) with reduced mass mu and reduced radius R has the contact
+/// time tau_c(mu, R) of the normal law (contact_params.hpp; Hertz at contact.vmax) and may step
+/// with h_l <= tau_c / N, N = time.steps_per_contact: its level is
+///   l_c(i, j) = max(0, floor(log2(tau_c(mu, R) / (N h)))),
+/// a wall contact of sphere i likewise with mu = m_i, R = s_i. So a light fragment's pair steps
+/// finely while pairs of heavier spheres take longer steps.
+/// Near pairs. A pair is near when its gap |x_i - x_j| - s_i - s_j < g = k/2 (k = contact.skin);
+/// the pair list re-inserts spheres after k/4 (ContactSystem::set_reinsert_fraction), so every
+/// near pair is listed whatever the list's history (unlisted: gap >= k - k/4 - k/4). The rules
+///   new level at a sync (s+1):  l_i = min(L, tz(s+1), min over near partners j of l_c(i, j),
+///                                         l_c(wall) for a wall within g),
+///     tz(s+1) = the number of trailing zero bits of s+1 (a level may only become coarser where
+///     it is synchronised);
+///   equalisation: for every near pair, l_i = l_j = min(l_i, l_j, l_c(i, j)) (walls: l_i <=
+///     l_c(wall)), iterated to the fixed point; a sphere whose level drops while it is not
+///     synchronised at s+1 is promoted to min(that level, tz(s+1)) and closes now (tau < h_l).
+/// Hence every near pair, and so every pair in contact, has both spheres on one level, at most
+/// l_c of the pair, and both are evaluated together: contact forces act on synchronised spheres
+/// only, pairwise antisymmetric (momentum exact) and each contact is a plain KDK at its level's
+/// step.
+/// Reach rule (no tunnelling). Positions are synchronised at every base step and the near test
+/// runs at every base step for all spheres, whatever their level: a sphere's displacement before
+/// the next test is at most |v| h, the same as in single-rate stepping at the base step. A pair
+/// approaching at relative speed w is equalised before it touches if w h < g = k/2, and in any
+/// case at the first base step at which it overlaps, i.e. exactly when single-rate stepping at
+/// the base step first sees the contact (a 5 km/s fragment through a pile is caught at the
+/// base step; test_nbody_multirate).
+/// Errors. A promotion in the middle of a step (a sphere on level l at time tau after its
+/// opening) replaces its opening kick (h_l/2) a_old by (tau/2) a_old; its drift so far used
+/// v + (h_l/2) a_old instead of v + (tau/2) a_old, a position error of tau (h_l - tau) a_old / 2
+/// (first order in h_l, once per promotion). a_old holds only the uniform field (self-gravity is
+/// the outer RESPA kick; a promoted sphere had no contact): in space (gravity.uniform = 0) a
+/// promotion is exact, and a sphere flying alone into a pile follows the single-rate trajectory
+/// bit for bit when its pairs are on the base level (test_nbody_multirate). Contacts never do
+/// work on spheres that are not synchronised, so no energy is created by the level changes.
+/// The extrapolated dashpot predictor (simulation.hpp) extrapolates over the sphere's previous
+/// step; after a level change (previous step length differs) that one step uses the pkdgrav
+/// predictor.
+/// Limits. All spheres of a cluster of near pairs share the finest level of its pairs (a pile
+/// steps at the step of its lightest contact; only separate clusters and lone spheres gain).
+/// Bonds are not supported with multi-rate steps (refused, exit 2).
+/// Ownership (for a domain decomposition): a sphere's level, opening time and previous step are
+/// per-sphere arrays (SimState::level etc.) exchanged with the sphere; the level rule needs only
+/// the sphere's near partners (gap < k/2, inside any halo of width >= the skin), the
+/// equalisation is a fixed point over near pairs (converges to the same result in any order, so
+/// a halo exchange of levels per iteration reproduces it), and synchronisation times are global
+/// (base substep counter), so ranks need to agree only on the block length.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ssdem/contact_params.hpp"
+
+namespace ssdem {
+
+/// Level of a contact pair: l_c = max(0, floor(log2(tau_c / (N h)))), at most lmax.
+class PairClock {
+ public:
+  PairClock() = default;
+  PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax);
+  /// reduced mass mu [kg], reduced radius R [m]
+  int level(double mu, double R) const;
+
+ private:
+  ContactParams p_;
+  double unit_ = 1.0;  ///< N h
+  double lin_ = 0.0;   ///< linear law: tau_c = lin_ * sqrt(mu)
+  int lmax_ = 0;
+};
+
+/// Levels in use over a run: sphere-substeps per level and the current histogram.
+struct LevelStats {
+  std::vector<std::int64_t> now;           ///< spheres per level at the last block boundary
+  std::vector<double> sphere_time;         ///< simulated sphere-seconds spent on each level
+  std::int64_t promotions = 0;             ///< promotions in the middle of a step
+  std::int64_t evaluations = 0;            ///< sphere force evaluations (active spheres summed)
+  /// "l0:n0 l1:n1 ..." of `now` (levels with n > 0)
+  std::string histogram_text() const;
+};
+
+/// Number of trailing zero bits of s > 0 (the coarsest level synchronised at substep s).
+inline int trailing_level(std::int64_t s) {
+  int t = 0;
+  while (s > 0 && (s & 1) == 0) {
+    s >>= 1;
+    ++t;
+  }
+  return t;
+}
+
+/// Largest power of two <= k (k >= 1).
+inline int floor_pow2(int k) {
+  int p = 1;
+  while (2 * p <= k) p *= 2;
+  return p;
+}
+
+}  // namespace ssdem

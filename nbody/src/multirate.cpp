@@ -1,0 +1,336 @@
+/// @file multirate.cpp
+/// Multi-rate block time steps (time.multirate = true): the level rule, the equalisation of near
+/// pairs and the substep of Simulation; equations, rules and their proofs in multirate.hpp.
+#include "ssdem/multirate.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cmath>
+#include <sstream>
+
+#include "common/status.hpp"
+#include "ssdem/simulation.hpp"
+
+namespace ssdem {
+namespace {
+constexpr std::size_t kOmpMin = 2048;  // below this many spheres a loop runs serially
+constexpr int kMaxLevel = 30;          // 2^30 base steps: far beyond any gravity block
+constexpr std::uint8_t kNone = 255;
+}  // namespace
+
+PairClock::PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax)
+    : p_(p), unit_(base_dt * steps_per_contact), lmax_(lmax) {
+  if (!(p.parts & kPartHertz)) lin_ = p.contact_time(1.0);  // tau_c = lin_ sqrt(mu)
+}
+
+int PairClock::level(double mu, double R) const {
+  const double tc = lin_ > 0.0 ? lin_ * std::sqrt(mu) : p_.contact_time(mu, R);
+  const double r = tc / unit_;
+  if (!(r >= 2.0)) return 0;  // also NaN
+  return std::min(std::ilogb(r), lmax_);
+}
+
+std::string LevelStats::histogram_text() const {
+  std::ostringstream os;
+  bool first = true;
+  for (std::size_t l = 0; l < now.size(); ++l) {
+    if (now[l] == 0) continue;
+    os << (first ? "" : " ") << "l" << l << ":" << now[l];
+    first = false;
+  }
+  return os.str();
+}
+
+void Simulation::setup_multirate(const SimState* st) {
+  if (!cfg_.multirate) return;
+  if (bonds_)
+    throw common::InputError("time.multirate: bonds are not supported with multi-rate steps; set time.multirate = false");
+  if (!(cfg_.pair_steps_per_contact > 0.0))
+    throw common::InputError("time.steps_per_contact must be > 0");
+  cfg_.gravity_every = floor_pow2(std::max(cfg_.gravity_every, 1));
+  cfg_.gravity_max_every = floor_pow2(std::max(cfg_.gravity_max_every, 1));
+  const std::size_t n = sp_.size();
+  level_.assign(n, 0);
+  tau_prev_.assign(n, 0.0);
+  if (st && st->level.size() == n) level_ = st->level;
+  if (st && st->tau_prev.size() == n) tau_prev_ = st->tau_prev;
+  sync_.assign(n, 0);
+  promoted_.assign(n, 0);
+  topen_.assign(n, 0);
+  hopen_.assign(n, 0.0);
+  lstats_.now.assign(kMaxLevel + 1, 0);
+  lstats_.sphere_time.assign(kMaxLevel + 1, 0.0);
+  for (std::uint8_t l : level_) ++lstats_.now[std::min<int>(l, kMaxLevel)];
+  if (contacts_) {
+    contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
+    near_gap_ = 0.5 * contacts_->skin();
+    clock_ = PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel);
+  }
+}
+
+bool Simulation::near_pair(std::uint32_t i, std::uint32_t j) const {
+  const double r = sp_.s[i] + sp_.s[j] + near_gap_;
+  return (sp_.x[j] - sp_.x[i]).squaredNorm() < r * r;
+}
+
+int Simulation::pair_level(std::uint32_t i, std::uint32_t j) const {
+  const double mi = sp_.m[i], mj = sp_.m[j];
+  return clock_.level(mi * mj / (mi + mj), sp_.s[i] * sp_.s[j] / (sp_.s[i] + sp_.s[j]));
+}
+
+int Simulation::wall_level(std::uint32_t i) const {
+  int l = kNone;
+  for (const Plane& w : contacts_->walls())
+    if ((sp_.x[i] - w.point).dot(w.normal) < sp_.s[i] + near_gap_) {
+      l = std::min(l, clock_.level(sp_.m[i], sp_.s[i]));
+      break;  // one wall law: the same level for every wall
+    }
+  return l;
+}
+
+// New levels of the spheres synchronised now (sync_ = 1): min(L, tz, l_c of near pairs/walls).
+// Per sphere over its own pairs (both CSR directions): parallel, each sphere writes its own level.
+void Simulation::assign_levels(int tz, int L) {
+  const std::size_t n = sp_.size();
+  const int top = std::min(tz, L);
+  const bool ct = contacts_ != nullptr;
+  const std::vector<std::uint32_t> none;
+  const auto& pi = ct ? contacts_->pair_i() : none;
+  const auto& pj = ct ? contacts_->pair_j() : none;
+  const auto& ri = ct ? contacts_->row_i() : none;
+  const auto& rj = ct ? contacts_->row_j() : none;
+  const auto& jp = ct ? contacts_->jpair() : none;
+  const bool walls = ct && !contacts_->walls().empty();
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!sync_[k]) continue;
+    const auto i = static_cast<std::uint32_t>(k);
+    int c = top;
+    if (ct && c > 0) {
+      for (std::uint32_t p = ri[i]; p < ri[i + 1] && c > 0; ++p)
+        if (near_pair(i, pj[p])) c = std::min(c, pair_level(i, pj[p]));
+      for (std::uint32_t q = rj[i]; q < rj[i + 1] && c > 0; ++q)
+        if (near_pair(pi[jp[q]], i)) c = std::min(c, pair_level(pi[jp[q]], i));
+      if (walls && c > 0) c = std::min(c, wall_level(i));
+    }
+    level_[k] = static_cast<std::uint8_t>(c);
+  }
+}
+
+// Lower sphere i to `target` (a sphere not synchronised now is promoted to min(target, tz)).
+bool Simulation::lower_level(std::uint32_t i, int target, int tz, std::vector<std::uint32_t>& work) {
+  if (level_[i] <= target) return false;
+  if (sync_[i]) {
+    level_[i] = static_cast<std::uint8_t>(target);
+  } else {
+    level_[i] = static_cast<std::uint8_t>(std::min(target, tz));
+    sync_[i] = 1;
+    promoted_[i] = 1;
+    ++lstats_.promotions;
+  }
+  work.push_back(i);
+  return true;
+}
+
+// Near pairs: both on min(l_i, l_j, l_c) (walls: l_i <= l_c(wall)), to the fixed point.
+void Simulation::equalise_levels(int tz) {
+  if (!contacts_) return;
+  const auto& pi = contacts_->pair_i();
+  const auto& pj = contacts_->pair_j();
+  const auto& ri = contacts_->row_i();
+  const auto& rj = contacts_->row_j();
+  const auto& jp = contacts_->jpair();
+  const bool walls = !contacts_->walls().empty();
+  work_.clear();
+  auto enforce = [&](std::uint32_t i, std::uint32_t j) {
+    const int li = level_[i], lj = level_[j];
+    if (li == 0 && lj == 0) return;
+    if (!near_pair(i, j)) return;
+    const int t = std::min({li, lj, pair_level(i, j)});
+    lower_level(i, t, tz, work_);
+    lower_level(j, t, tz, work_);
+  };
+  for (std::size_t p = 0; p < pi.size(); ++p) enforce(pi[p], pj[p]);
+  if (walls)
+    for (std::uint32_t i = 0; i < sp_.size(); ++i)
+      if (level_[i] > 0) lower_level(i, wall_level(i), tz, work_);
+  while (!work_.empty()) {
+    const std::uint32_t k = work_.back();
+    work_.pop_back();
+    for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) enforce(k, pj[p]);
+    for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) enforce(pi[jp[q]], k);
+    if (walls && level_[k] > 0) lower_level(k, wall_level(k), tz, work_);
+  }
+}
+
+// Contact forces of the active spheres (each with its own step), accelerations, and the
+// promoted spheres' kick correction.
+void Simulation::multirate_forces() {
+  const std::size_t n = sp_.size();
+  const double h = cfg_.dt;
+  const bool extrap = cfg_.extrapolated_predictor;
+  const std::size_t na = active_.size();
+  vpred_.resize(n);
+  wpred_.resize(n);
+  if (extrap && a_prev_.size() != n) {
+    a_prev_.assign(n, Vec3::Zero());
+    alpha_prev_.assign(n, Vec3::Zero());
+  }
+  subset_.spheres = active_;
+  subset_.hsphere.resize(na);
+  bool uniform = na == n;
+  double tau0 = 0.0;
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
+  for (std::size_t r = 0; r < na; ++r) {
+    const std::uint32_t i = active_[r];
+    const double tau = static_cast<double>(step_ - topen_[i]) * h;
+    subset_.hsphere[r] = tau;
+    const double hc = tau - hopen_[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
+    vpred_[i] = sp_.v[i] + hc * a_[i];
+    wpred_[i] = sp_.w[i] + hc * alpha_[i];
+    if (extrap) {
+      if (tau_prev_[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
+        vpred_[i] += 0.5 * tau * (a_[i] - a_prev_[i]);
+        wpred_[i] += 0.5 * tau * (alpha_[i] - alpha_prev_[i]);
+      }
+      a_prev_[i] = a_[i];
+      alpha_prev_[i] = alpha_[i];
+    }
+    tau_prev_[i] = tau;
+    if (promoted_[i]) {  // opening kick h_open a_old -> (tau/2) a_old
+      const double c = 0.5 * tau - hopen_[i];
+      sp_.v[i] += c * a_[i];
+      sp_.w[i] += c * alpha_[i];
+    }
+  }
+  for (std::size_t r = 0; r < na; ++r) {
+    const double tau = subset_.hsphere[r];
+    if (r == 0) tau0 = tau;
+    uniform = uniform && tau == tau0;
+    lstats_.sphere_time[std::min(std::max(std::ilogb(tau / h), 0), kMaxLevel)] += tau;
+  }
+  lstats_.evaluations += static_cast<std::int64_t>(na);
+  if (contacts_) {
+    if (uniform) {  // everyone active with one step: the single-rate kernel call
+      cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_);
+    } else {
+      // every listed pair with an active member: pairs in contact have both members active (near
+      // pairs share a level); a pair with one active member is evaluated too, so that a contact
+      // flag left from its last evaluation is reset, never gathered stale (it is not near: no force)
+      subset_.pairs.clear();
+      subset_.hpair.clear();
+      const auto& pi = contacts_->pair_i();
+      const auto& pj = contacts_->pair_j();
+      const auto& ri = contacts_->row_i();
+      const auto& rj = contacts_->row_j();
+      const auto& jp = contacts_->jpair();
+      auto add = [&](std::uint32_t p) {
+        const std::uint32_t i = pi[p], j = pj[p];
+        const std::int64_t ti = sync_[i] ? step_ - topen_[i] : INT64_MAX;
+        const std::int64_t tj = sync_[j] ? step_ - topen_[j] : INT64_MAX;
+        subset_.pairs.push_back(p);
+        subset_.hpair.push_back(static_cast<double>(std::min(ti, tj)) * h);
+      };
+      for (std::size_t r = 0; r < na; ++r) {
+        const std::uint32_t k = active_[r];
+        for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) add(p);
+        for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
+          if (!sync_[pi[jp[q]]]) add(jp[q]);  // else added from its i member
+      }
+      cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_);
+    }
+  }
+  accelerations(active_.data(), na);
+}
+
+void Simulation::step_multirate() {
+  const std::size_t n = sp_.size();
+  const double h = cfg_.dt;
+  const bool spin = contacts_ != nullptr;
+  const bool sg = cfg_.self_gravity;
+  const int K = block_;  // a power of two (close_gravity_block)
+  const int L = trailing_level(K);
+  const double hk = 0.5 * h * K;
+  const std::int64_t s0 = step_ - block_start_;
+  const bool open_block = s0 == 0;
+  const bool open_kick = sg && open_block;
+  double t0 = omp_get_wtime(), c0 = cpu_now_();
+  if (open_block)
+    for (std::size_t i = 0; i < n; ++i) level_[i] = static_cast<std::uint8_t>(std::min<int>(level_[i], L));
+  const std::int64_t st = step_;
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (open_kick) sp_.v[i] += hk * ag_[i];
+    const std::int64_t len = std::int64_t{1} << level_[i];
+    if ((s0 & (len - 1)) == 0) {  // opening kick of a sphere synchronised now
+      const double ho = 0.5 * h * static_cast<double>(len);
+      hopen_[i] = ho;
+      topen_[i] = st;
+      sp_.v[i] += ho * a_[i];
+      if (spin) sp_.w[i] += ho * alpha_[i];
+    }
+    sp_.x[i] += h * sp_.v[i];
+  }
+  ++step_;
+  time_ = static_cast<double>(step_) * h;
+  times_.integrate += omp_get_wtime() - t0;
+  times_.cpu_integrate += cpu_now_() - c0;
+  const std::int64_t s1 = s0 + 1;
+  const int tz = std::min(trailing_level(s1), L);
+  if (contacts_) {
+    t0 = omp_get_wtime();
+    c0 = cpu_now_();
+    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
+    times_.neighbours += omp_get_wtime() - t0;
+    times_.cpu_neighbours += cpu_now_() - c0;
+  }
+  t0 = omp_get_wtime();
+  c0 = cpu_now_();
+  for (std::size_t i = 0; i < n; ++i) {
+    sync_[i] = level_[i] <= tz ? 1 : 0;
+    promoted_[i] = 0;
+  }
+  assign_levels(tz, L);
+  equalise_levels(tz);
+  active_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    if (sync_[i]) active_.push_back(static_cast<std::uint32_t>(i));
+  const double tl = omp_get_wtime() - t0;
+  times_.levels += tl;
+  times_.integrate += tl;
+  times_.cpu_integrate += cpu_now_() - c0;
+  t0 = omp_get_wtime();
+  c0 = cpu_now_();
+  multirate_forces();
+  times_.contacts += omp_get_wtime() - t0;
+  times_.cpu_contacts += cpu_now_() - c0;
+  const bool close_kick = s1 == K;
+  if (sg && close_kick) {
+    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    compute_gravity(false);
+  }
+  t0 = omp_get_wtime();
+  c0 = cpu_now_();
+  const std::size_t na = active_.size();
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
+  for (std::size_t r = 0; r < na; ++r) {
+    const std::uint32_t i = active_[r];
+    const double hc = 0.5 * (static_cast<double>(step_ - topen_[i]) * h);
+    sp_.v[i] += hc * a_[i];
+    if (spin) sp_.w[i] += hc * alpha_[i];
+    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
+  }
+  times_.integrate += omp_get_wtime() - t0;
+  times_.cpu_integrate += cpu_now_() - c0;
+  if (close_kick) {
+    std::fill(lstats_.now.begin(), lstats_.now.end(), 0);
+    for (std::size_t i = 0; i < n; ++i) ++lstats_.now[level_[i]];
+    close_gravity_block();
+  }
+  ++times_.steps;
+  check_state();
+}
+
+}  // namespace ssdem
