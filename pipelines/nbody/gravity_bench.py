@@ -2,10 +2,11 @@
 (nbody-dense-pile: radius 100 m, 3500 kg/m^3, spacing (2 - 1e-7) R, gravel preset, k_n from 1 %
 overlap at the escape speed, dt = pi sqrt(m / (2 k_n)) / 30) of 10^4 spheres for 300 steps and
 5x10^4 spheres for 100 steps, gravity every step and with the error-controlled cadence; optionally
-a large debris scene (pile plus as many flying fragments, nbody-debris-cloud).
+a large debris scene (pile plus as many flying fragments, nbody-debris-cloud, run with the
+reaccumulation scene pipelines/impact/reaccumulate.toml for T simulated seconds).
 
   gravity_bench.py NEW OUTDIR [--old OLD] [--rounds 3] [--threads 1,2] [--sizes 10000:300,50000:100]
-                   [--debris H5:STEPS]
+                   [--debris H5:T]   (--sizes none: debris only)
 
 Each case runs old and new interleaved (old, new, old, new, ...) under OMP_NUM_THREADS = 1 and 2;
 the cost is wall time x threads / (spheres x steps) from ssdem-grav's `done:` phase times (the
@@ -43,9 +44,9 @@ def energy_error(rundir):
     return abs(e1 / e0 - 1)
 
 
-def one(exe, sets, rundir, threads):
+def one(exe, sets, rundir, threads, base=BASE):
     os.environ["OMP_NUM_THREADS"] = str(threads)
-    r = run(exe, BASE, sets, rundir)
+    r = run(exe, base, sets, rundir)
     phases = r["gravity"] + r["neighbours"] + r["contacts"] + r["integrate"]
     n = r["n"]
     f = threads * 1e6 / (r["steps"] * n)
@@ -59,7 +60,8 @@ def main():
     old = o.get("--old")
     rounds = int(o.get("--rounds", 3))
     threads = [int(t) for t in o.get("--threads", "1,2").split(",")]
-    sizes = [tuple(int(v) for v in s.split(":")) for s in o.get("--sizes", "10000:300,50000:100").split(",")]
+    sz = o.get("--sizes", "10000:300,50000:100")
+    sizes = [] if sz == "none" else [tuple(int(v) for v in s.split(":")) for s in sz.split(",")]
     build = os.path.dirname(os.path.dirname(new))
     os.makedirs(outdir, exist_ok=True)
     rundir = os.path.join(outdir, "run")
@@ -67,25 +69,26 @@ def main():
     for n, steps in sizes:
         sets = scene(build, outdir, n, steps)
         cases.append((f"dense pile {n}, {steps} steps, gravity every step", sets + ["gravity.every=1"], True))
-        cases.append((f"dense pile {n}, {steps} steps, error-controlled cadence", sets + ['gravity.every=0'], False))
+        cases.append((f"dense pile {n}, {steps} steps, error-controlled cadence", sets + ['gravity.every=0'], True))
     if o.get("--debris"):
-        h5, steps = o["--debris"].split(":")
+        h5, t_end = o["--debris"].split(":")
         sets = [f'initial.source="file"', f'initial.file="{h5}"', "output.snapshot_interval=0",
-                "output.series_every=1000000000", f"time.end={steps}"]
-        cases.append((f"debris {os.path.basename(h5)}, adaptive cadence", sets + ['gravity.every=0'], False))
+                "output.series_every=1000000000", f"time.end={t_end}"]
+        reacc = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
+        cases.append((f"debris {os.path.basename(h5)}, {t_end} s, reaccumulation scene", sets, True, reacc))
     lines = [f"# nbody-gravity-bench (old = {old or 'none'}, new = {new})", "",
              "us per sphere-step = wall x threads / (spheres x steps); median of the rounds; "
              "dE = |E_end / E_0 - 1|", "",
              "| case | threads | binary | us/sphere-step | gravity | neighbours | contacts | integrate | dE | old/new |",
              "|---|---|---|---|---|---|---|---|---|---|"]
-    for name, sets, with_old in cases:
+    for name, sets, with_old, *base in cases:
         for th in threads:
             res = {"old": [], "new": []}
             for _ in range(rounds):
                 for tag, exe in (("old", old), ("new", new)):
                     if exe is None or (tag == "old" and not with_old):
                         continue
-                    res[tag].append(one(exe, sets, rundir, th))
+                    res[tag].append(one(exe, sets, rundir, th, *base))
                     print(name, th, tag, res[tag][-1], flush=True)
             med = {t: {k: statistics.median(r[k] for r in v) for k in v[0]} for t, v in res.items() if v}
             for tag, m in med.items():

@@ -71,12 +71,33 @@ nbody-debris-skin: nbody-debris-scenes ## contact.skin sweep on the debris scene
 # tree evaluation across theta, bucket and group size on the 1e4 pile (how the defaults were chosen).
 GRAVITY_OLD ?=
 GRAVITY_ROUNDS ?= 3
+GRAVITY_SIZES ?= 10000:300,50000:100
 .PHONY: nbody-gravity-bench nbody-gravity-sweep
 nbody-gravity-bench: ## dense-pile gravity benchmark: us/sphere-step, phases, energy error (old vs new with GRAVITY_OLD=)
 	cmake --build $(BUILD) --target ssdem-grav nbody-dense-pile -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-gravity
 	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/gravity_bench.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-gravity \
-	  --rounds $(GRAVITY_ROUNDS) $(if $(GRAVITY_OLD),--old $(GRAVITY_OLD))
+	  --rounds $(GRAVITY_ROUNDS) --sizes $(GRAVITY_SIZES) $(if $(GRAVITY_OLD),--old $(GRAVITY_OLD))
+
+# nbody-large-bench: issue 15's large benchmarks, old and new interleaved (LARGE_OLD=<another
+# ssdem-grav>), 1 and 2 threads, medians of LARGE_ROUNDS, phase split: the dense HCP pile of
+# LARGE_N spheres for LARGE_STEPS steps (gravity every step and the controlled cadence), and
+# "impact debris, large": a pile of LARGE_N with LARGE_N fragments flying out at 1-100 m/s
+# (nbody-debris-cloud) under the reaccumulation scene for LARGE_T simulated seconds.
+LARGE_N      ?= 50000
+LARGE_STEPS  ?= 100
+LARGE_T      ?= 0.002
+LARGE_ROUNDS ?= 3
+LARGE_OLD    ?=
+.PHONY: nbody-large-bench
+nbody-large-bench: ## 5e4 dense pile and 1e5-sphere debris (pile + flying): us/sphere-step, phases (old vs new with LARGE_OLD=)
+	cmake --build $(BUILD) --target ssdem-grav nbody-dense-pile nbody-debris-cloud -j $(JOBS)
+	mkdir -p $(RUNS)/nbody-large
+	test -f $(RUNS)/nbody-large/cloud_$(LARGE_N).h5 || $(BUILD)/tests/nbody/nbody-debris-cloud \
+	  $(RUNS)/nbody-large/cloud_$(LARGE_N).h5 $(LARGE_N) $(LARGE_N)
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/gravity_bench.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-large \
+	  --rounds $(LARGE_ROUNDS) --sizes $(LARGE_N):$(LARGE_STEPS) \
+	  --debris $(RUNS)/nbody-large/cloud_$(LARGE_N).h5:$(LARGE_T) $(if $(LARGE_OLD),--old $(LARGE_OLD))
 
 nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense pile of 1e4)
 	cmake --build $(BUILD) --target nbody-dense-pile nbody-gravity-sweep -j $(JOBS)
