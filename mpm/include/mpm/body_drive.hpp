@@ -6,7 +6,8 @@
 /// Prescribed velocity (a linear ramp from 0, so the body starts without an impact wave):
 ///     v_T(t) = v_drive min(t / t_ramp, 1)            (t_ramp = drive.ramp_time; 0: v_drive at once)
 /// Constrained nodes C_k of drive k at a step: every node with a non-zero uGIMP/linear weight
-/// S_ip > 0 of a particle p of the body (a node reached by two drives belongs to the first).
+/// S_ip > 0 of a particle p of the body (a node reached by two drives belongs to the first; a
+/// round-off weight at the edge of the support does not count, drive.cpp).
 /// In each grid stage of the step (Solver::step; the stages of the schedule in solver.hpp):
 ///     v_i  <- v_T(t_n)       for i in C_k, after v_i = (mv)_i / m_i and the face conditions
 ///     v*_i <- v_T(t_n + dt)  for i in C_k, after v*_i = v_i + dt f_i / m_i

@@ -2,7 +2,10 @@
 /// Velocity-driven bodies: the kinematic velocity condition on the nodes a driven body occupies
 /// and the reaction impulse it records (equations in mpm/body_drive.hpp).
 ///
-///   C_k = { i : S_ip > 0 for a particle p of drive k }   (first drive wins on a shared node)
+///   C_k = { i : S_ip > 0 for a particle p of drive k }   (first drive wins on a shared node;
+///         a per-axis weight below kMinWeight counts as 0: a node at the very edge of a particle's
+///         support, h + l_p away, gets a round-off weight ~1e-28 from x_p - x_i, and taking it in
+///         would widen a platen's grip by a whole cell)
 ///   v_i <- v_T(t_n), v*_i (and MUSL v**_i) <- v_T(t_n + dt)  on C_k
 ///   J_k = sum_{C_k} m_i [c2_i + (1 - alpha) c1_i] - M_k (v_T(t_n + dt) - v_T(t_n))
 ///
@@ -15,6 +18,10 @@
 namespace mpmfrag {
 
 using namespace detail;
+
+namespace {
+constexpr double kMinWeight = 1e-9;
+}  // namespace
 
 void Solver::set_drives(std::vector<BodyDrive> drives) {
   for (std::size_t a = 0; a < drives.size(); ++a) {
@@ -55,12 +62,12 @@ void Solver::drive_prepare() {
     const Stencil s = particle_stencil(cfg_.shape, ps_.x.data() + 3 * p, ps_.half_width.data() + 3 * p, grid_.origin,
                                        grid_.cell_size, sx, sy);
     for (int c = 0; c < s.Z.n; ++c) {
-      if (!(s.Z.w[c] > 0.0)) continue;
+      if (!(s.Z.w[c] > kMinWeight)) continue;
       for (int b = 0; b < s.Y.n; ++b) {
-        if (!(s.Y.w[b] > 0.0)) continue;
+        if (!(s.Y.w[b] > kMinWeight)) continue;
         const std::size_t row = s.row(sx, sy, b, c);
         for (int a = 0; a < s.X.n; ++a) {
-          if (!(s.X.w[a] > 0.0)) continue;
+          if (!(s.X.w[a] > kMinWeight)) continue;
           std::int32_t& owner = node_drive_[row + a];
           if (owner < 0) touched.push_back(row + a);
           if (owner < 0 || k < owner) owner = k;
