@@ -4,8 +4,11 @@
 usage: lab_strength.py <run directory> [label]
 
 Reads the snapshots <prefix>_NNNNNN.h5 of the run and the resolved scene in their /provenance:
-  F(t)      = 2 x sum over disk particles with |y| < b of -sigma_yy V / (2 b),  b = 1 mm
-              (force across the central band; x2 for the mirrored half thickness)
+  F(t)      = 2 x (volume-weighted mean of -sigma_yy over the disk particles with |y| < b) x D t/2,
+              b = 1 mm: the force across the central section (x2 for the mirrored half thickness).
+              (Until issue 16's exact drive this was sum(-sigma_yy V) / (2 b), which at 0.4 mm cells
+              counts 4 rows = 1.6 mm of material against 2 b = 2 mm: 20 % low; the test driver
+              tests/damage/brazilian.hpp still measures that way.)
   sigma_t   = 2 F / (pi D t)   (Hondros 1959 / ISRM), D and t of the scene's body (exact bodies,
               the default: the particle volumes sum to its true volume), else of the lattice
   nominal   = 2 v / D          (v = the top platen's drive speed, as experiments report)
@@ -90,7 +93,7 @@ def main():
         if brazilian:
             D, t = geo[0], 2 * geo[1]
             mid = np.abs(x[:, 1]) < band
-            F = 2 * np.sum(-s[mid, 1] * V[mid]) / (2 * band)
+            F = 2 * np.sum(-s[mid, 1] * V[mid]) / np.sum(V[mid]) * D * geo[1]
             cen = x[:, 0] ** 2 + x[:, 1] ** 2 < 0.25e-6
             rows.append((time, F, 2 * F / (math.pi * D * t), s[cen, 0].mean()))
         else:
