@@ -129,6 +129,12 @@ void write_checkpoint(const std::string& path, const Solver& solver, const Drive
     h5::write_attr(g, "max_dt", driver.max_dt);
     h5::write_attr(g, "initial_totals", pack_totals(driver.initial));
     h5::write_attr(g, "outflow_totals", pack_totals(r.outflow_totals));
+    if (!r.drive_loads.empty()) {  // force and impulse of each drive (body_drive.hpp)
+      std::vector<double> dl;
+      for (const DriveLoad& l : r.drive_loads)
+        for (const Eigen::Vector3d* v : {&l.force, &l.impulse}) dl.insert(dl.end(), v->data(), v->data() + 3);
+      h5::write_attr(g, "drive_loads", dl);
+    }
     h5::write_attr(g, "run_identity", identity);
     h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
     {
@@ -198,6 +204,12 @@ Checkpoint read_checkpoint(const std::string& path) {
     ck.driver.max_dt = h5::read_attr_double(g, "max_dt", path);
     ck.driver.initial = unpack_totals(h5::read_attr_doubles(g, "initial_totals", path), path, "initial_totals");
     r.outflow_totals = unpack_totals(h5::read_attr_doubles(g, "outflow_totals", path), path, "outflow_totals");
+    if (h5::has_attr(g, "drive_loads")) {
+      const std::vector<double> dl = h5::read_attr_doubles(g, "drive_loads", path);
+      if (dl.size() % 6 != 0) throw common::InputError(path, "/mpm_state", "drive_loads is not 6 numbers per drive");
+      for (std::size_t k = 0; k < dl.size(); k += 6)
+        r.drive_loads.push_back({Eigen::Vector3d(dl[k], dl[k + 1], dl[k + 2]), Eigen::Vector3d(dl[k + 3], dl[k + 4], dl[k + 5])});
+    }
     ck.identity = h5::read_attr_string(g, "run_identity", path);
     const long long n = rows_of(f, "/mpm_state/particles/id", path);
     ck.particles = read_set(f, "/mpm_state/particles", n, path);

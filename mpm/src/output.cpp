@@ -85,8 +85,8 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
 }
 
 namespace {
-common::SeriesFormat series_format() {
-  return common::SeriesFormat({{"step", ""},
+common::SeriesFormat series_format(const std::vector<std::size_t>& drive_bodies) {
+  std::vector<common::SeriesColumn> cols{{"step", ""},
                                {"time_s", "s"},
                                {"dt_s", "s"},
                                {"mass_kg", "kg"},
@@ -104,16 +104,24 @@ common::SeriesFormat series_format() {
                                {"plastic_J", "J"},
                                {"damage_J", "J"},
                                {"shock_heat_J", "J"},
-                               {"transfer_heat_J", "J"}},
-                              {.precision = 12});
+                               {"transfer_heat_J", "J"}};
+  for (const std::size_t b : drive_bodies) {  // the load of each driven body (body_drive.hpp)
+    const std::string p = "body" + std::to_string(b) + "_";
+    for (const char* c : {"Fx_N", "Fy_N", "Fz_N"}) cols.push_back({p + c, "N"});
+    for (const char* c : {"Jx_Ns", "Jy_Ns", "Jz_Ns"}) cols.push_back({p + c, "N s"});
+  }
+  return common::SeriesFormat(std::move(cols), {.precision = 12});
 }
 }  // namespace
 
-SeriesWriter::SeriesWriter(const std::string& path, std::optional<std::string> continued)
-    : file_(continued ? common::SeriesFile(path, series_format(), common::SeriesFile::Initial{std::move(*continued)})
-                      : common::SeriesFile(path, series_format())) {}
+SeriesWriter::SeriesWriter(const std::string& path, const std::vector<std::size_t>& drive_bodies,
+                           std::optional<std::string> continued)
+    : file_(continued ? common::SeriesFile(path, series_format(drive_bodies),
+                                           common::SeriesFile::Initial{std::move(*continued)})
+                      : common::SeriesFile(path, series_format(drive_bodies))) {}
 
-void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d) {
+void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnostics& d,
+                         const std::vector<DriveLoad>& loads) {
   common::SeriesRow row = file_.row();
   row.integer(step).num(t).num(dt).num(d.mass);
   row.num(d.momentum[0]).num(d.momentum[1]).num(d.momentum[2]);
@@ -121,6 +129,10 @@ void SeriesWriter::write(std::int64_t step, double t, double dt, const Diagnosti
   row.num(d.kinetic).num(d.internal).num(d.total());
   const EnergyBudget e = energy_budget(d);
   row.num(e.eos).num(e.elastic).num(e.plastic).num(e.damage).num(e.shock_heat).num(e.transfer_heat);
+  for (const DriveLoad& l : loads) {
+    row.num(l.force[0]).num(l.force[1]).num(l.force[2]);
+    row.num(l.impulse[0]).num(l.impulse[1]).num(l.impulse[2]);
+  }
   file_.write(row);
 }
 

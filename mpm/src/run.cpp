@@ -96,7 +96,9 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
   const std::size_t n = st.particles.size();
   log_bodies(st.bodies);
   Solver solver(st.solver, st.grid, std::move(st.particles), std::move(st.materials));
-  if (st.body_force) solver.set_body_force(st.body_force);  // [[body]] drive.*
+  solver.set_drives(st.drives);  // [[body]] drive.* (body_drive.hpp)
+  std::vector<std::size_t> drive_bodies;
+  for (const BodyDrive& d : st.drives) drive_bodies.push_back(d.body);
   RunSummary sum;
   sum.particles = n;
   sum.bytes_per_particle = solver.bytes_per_particle();
@@ -124,7 +126,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
     solver.initialize();
   }
   const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
-  SeriesWriter series(series_path, ck ? std::optional<std::string>(std::move(drv.series)) : std::nullopt);
+  SeriesWriter series(series_path, drive_bodies, ck ? std::optional<std::string>(std::move(drv.series)) : std::nullopt);
   ck.reset();
   sum.series_path = series_path;
   auto write_snap = [&](const ParticleSet& ps, const std::vector<MaterialSlot>& mats, double t, std::int64_t step,
@@ -171,7 +173,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
   };
   if (restart.empty()) {
     drv.initial = solver.diagnostics();
-    series.write(0, 0.0, 0.0, drv.initial);
+    series.write(0, 0.0, 0.0, drv.initial, solver.drive_loads());
     sum.last_snapshot = write_snap(solver.particles(), solver.materials(), 0.0, 0, "");
     drv.next_snapshot = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
     drv.first_dt = solver.stable_dt();
@@ -213,7 +215,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
         path = write_snap(b.particles, b.materials, b.time, b.step, "failed_");
       }
       write_outflow();
-      series.write(solver.step_count(), solver.time(), dt, solver.diagnostics());
+      series.write(solver.step_count(), solver.time(), dt, solver.diagnostics(), solver.drive_loads());
       series.commit();  // the series up to the failure replaces an earlier one
       spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
       throw common::NumericalError(std::string(f.what()), path);
@@ -224,7 +226,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
     const bool at_end = solver.time() >= rc.t_end * (1 - 1e-12);
     if (solver.step_count() % rc.series_every == 0 || at_end || at_snap) {
       const Diagnostics d = solver.diagnostics();
-      series.write(solver.step_count(), solver.time(), dt, d);
+      series.write(solver.step_count(), solver.time(), dt, d, solver.drive_loads());
       progress.update(solver.step_count(), solver.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
     }
     if (at_snap) {

@@ -191,11 +191,13 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
              common::bounds::kMaxAngularVelocity,
              "initial rigid rotation about the primitive centre");
   b.add_int("ppc", 2, 1, 8, "particles per cell per axis");
-  b.add_bool("drive.enabled", false, "hold the body at drive.velocity (body_drive.hpp: platens of a lab test)");
+  b.add_bool("drive.enabled", false,
+             "move the body rigidly at drive.velocity: a velocity condition on the grid nodes it occupies, "
+             "its reaction in the series (body_drive.hpp: platens of a lab test); velocity and "
+             "angular_velocity are then not used");
   b.add_vec3("drive.velocity", Eigen::Vector3d::Zero(), "m/s", -common::bounds::kMaxSpeed, common::bounds::kMaxSpeed,
              "prescribed velocity of a driven body");
   b.add_real("drive.ramp_time", 0.0, "s", 0.0, kBig, "driven body: linear ramp of the velocity from 0");
-  b.add_real("drive.relaxation_time", 1e-7, "s", 1e-15, kBig, "driven body: relaxation time (>> dt)", true);
   b.add_bool("exact", true,
              "scale particle masses and volumes so that the body's mass is rho0 x its true volume, and shift "
              "its lattice (< h/(2 ppc)) so that its centre of mass is the primitive's centre (false: the raw "
@@ -302,8 +304,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
     const std::size_t count = gen.size() - first;
     if (count == 0) throw common::InputError(where, "", "body contains no particle (smaller than a particle spacing?)");
     if (b.boolean("drive.enabled"))
-      drives.push_back({gen.size() - count, gen.size(), b.vec3("drive.velocity"), b.real("drive.ramp_time"),
-                        b.real("drive.relaxation_time")});
+      drives.push_back({i, gen.size() - count, gen.size(), b.vec3("drive.velocity"), b.real("drive.ramp_time")});
     BodyInfo& bi = st.bodies[i];
     bi.name = b.string("name");
     bi.particles = count;
@@ -327,7 +328,9 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
         gen[g].m *= scale;
       }
     }
-    const Eigen::Vector3d v0 = b.vec3("velocity"), w = b.vec3("angular_velocity");
+    const bool driven = b.boolean("drive.enabled");  // a driven body starts at v_T(0)
+    const Eigen::Vector3d v0 = driven ? drives.back().velocity_at(0.0) : b.vec3("velocity");
+    const Eigen::Vector3d w = driven ? Eigen::Vector3d::Zero() : b.vec3("angular_velocity");
     double mass = 0;
     Eigen::Vector3d mx = Eigen::Vector3d::Zero();
     for (std::size_t g = first; g < gen.size(); ++g) {
@@ -363,7 +366,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
   // drop unused materials? keep them (empty ranges) so indices match the scene order.
   for (auto& s : slots) s.allocate_state();
   st.materials = std::move(slots);
-  st.body_force = make_drive_force(std::move(drives));
+  st.drives = std::move(drives);
   return st;
 }
 

@@ -52,6 +52,9 @@ struct Config {
   mpmfrag::tonge_ramesh::FlawSampling sampling = mpmfrag::tonge_ramesh::FlawSampling::scale_aware;
   double block_count = 1.0;  ///< scale_aware: tonge_ramesh::Params::block_count
   double platen_density = 7850.0 * 1e3;  ///< steel x 1e3 [kg/m^3] (the scene's bound is 1e5)
+  /// Platens moved by the scenes' exact velocity drive (Solver::set_drives) instead of the
+  /// relaxation body force on heavy platens (platen_density 7850 then).
+  bool kinematic = false;
 };
 
 struct Sample {
@@ -102,11 +105,19 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
         if (x * x + y * y <= R * R) disk.push_back({x, y, z});
       }
   const int nW = nR;  // platen half-width = R
-  for (int k = 0; k < nz; ++k)
-    for (int s = -1; s <= 1; s += 2)
-      for (int j = 0; j < c.platen_cells; ++j)
-        for (int i = -nW; i < nW; ++i)
-          plat.push_back({(i + 0.5) * h, s * (R + (j + 0.5) * h), (k + 0.5) * h});
+  if (c.kinematic) {  // one contiguous id range per platen (top, then bottom)
+    for (int s = 1; s >= -1; s -= 2)
+      for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < c.platen_cells; ++j)
+          for (int i = -nW; i < nW; ++i)
+            plat.push_back({(i + 0.5) * h, s * (R + (j + 0.5) * h), (k + 0.5) * h});
+  } else {
+    for (int k = 0; k < nz; ++k)
+      for (int s = -1; s <= 1; s += 2)
+        for (int j = 0; j < c.platen_cells; ++j)
+          for (int i = -nW; i < nW; ++i)
+            plat.push_back({(i + 0.5) * h, s * (R + (j + 0.5) * h), (k + 0.5) * h});
+  }
   const std::size_t nd = disk.size(), n = nd + plat.size();
   tonge_ramesh::Params tp = tonge_ramesh::basalt_el_mir();
   tp.flaw_sampling = c.sampling;
@@ -154,6 +165,12 @@ inline Result run(const Config& c, const std::function<void(const Sample&)>& on_
   // relaxation). Without this control the (finite-mass) platens are slowed by the disk's reaction
   // and even rebound at low rates.
   const double tau = c.platen_tau;
+  if (c.kinematic) {  // the platens' nodes prescribed exactly (mpm/body_drive.hpp), as in the scene
+    const std::size_t half = plat.size() / 2;
+    BodyDrive top{1, nd, nd + half, Eigen::Vector3d(0, -v0, 0), c.t_ramp};
+    BodyDrive bottom{2, nd + half, n, Eigen::Vector3d(0, v0, 0), c.t_ramp};
+    s.set_drives({top, bottom});
+  } else
   s.set_body_force([&](std::size_t b, std::size_t e, double t, const ParticleSet& P, double* a) {
     const double vt = v0 * std::min(t / c.t_ramp, 1.0);
     for (std::size_t q = b; q < e; ++q) {

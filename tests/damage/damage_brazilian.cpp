@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   }
   if (argc > 8) c.block_count = std::atof(argv[8]);
   if (argc > 9) c.platen_density = std::atof(argv[9]);
+  if (argc > 9 && std::string(argv[9]) == "kinematic") c.kinematic = true, c.platen_density = 7850.0;
   c.progress_every = 500;
   const auto r = brazilian::run(c);
   char tag[64];

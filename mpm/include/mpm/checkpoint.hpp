@@ -8,7 +8,8 @@
 ///   attrs   format = "mpm-frag.checkpoint", format_version, step, time [s], max_speed [m/s],
 ///           min_node_mass [kg], next_snapshot [s], first_dt, min_dt, max_dt [s], initial_totals and
 ///           outflow_totals (11 numbers each: mass, momentum 3, angular momentum 3, kinetic,
-///           internal, removed count, removed mass), run_identity, run_identity_digest,
+///           internal, removed count, removed mass), drive_loads (driven bodies only: force [N]
+///           and impulse [N s] of each drive, 6 numbers per drive), run_identity, run_identity_digest,
 ///           series_bytes, material_count
 ///   particles/<array>           every ParticleSet array by member name (ParticleSet::for_each_array,
 ///                               so an array added there travels without a change here), raw values

@@ -4,6 +4,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "common/atomic_file.hpp"
 #include "common/particle_file.hpp"
@@ -26,7 +27,9 @@ common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<
                                        const common::GridInfo& grid, double time, std::int64_t step);
 
 /// Time series: one CSV row per call (a common::SeriesFile; columns declared in output.cpp, 12
-/// significant digits).
+/// significant digits). With driven bodies, six more columns per drive: body<b>_F{x,y,z}_N (the
+/// force on the rest of the system in the last step) and body<b>_J{x,y,z}_Ns (its impulse since
+/// t = 0), b = the body's scene index (body_drive.hpp).
 /// Rows go to `<path>.partial`; commit() renames it onto `path` (end of the run, or a numerical
 /// failure after the last good state was saved), so a run that fails otherwise never replaces
 /// an earlier series (common::PartialFile).
@@ -34,11 +37,13 @@ class SeriesWriter {
  public:
   /// Creates `<path>.partial` and writes the header, or `continued` (the header and rows a
   /// checkpoint kept: a restarted run). Throws common::IoError.
-  explicit SeriesWriter(const std::string& path, std::optional<std::string> continued = std::nullopt);
+  /// `drive_bodies`: scene index of each driven body (Solver::drives order).
+  SeriesWriter(const std::string& path, const std::vector<std::size_t>& drive_bodies,
+               std::optional<std::string> continued = std::nullopt);
   /// Header and rows written so far (kept in checkpoints).
   const std::string& text() const { return file_.text(); }
   /// Append a row and flush.
-  void write(std::int64_t step, double t, double dt, const Diagnostics& d);
+  void write(std::int64_t step, double t, double dt, const Diagnostics& d, const std::vector<DriveLoad>& loads);
   /// Rename the series into place under `path`. Throws common::IoError.
   void commit() { file_.commit(); }
 

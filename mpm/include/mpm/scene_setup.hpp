@@ -101,7 +101,7 @@ struct Setup {
   common::GridInfo grid;
   ParticleSet particles;
   std::vector<MaterialSlot> materials;
-  BodyForce body_force;  ///< velocity drives of the bodies ([[body]] drive.*; empty: none)
+  std::vector<BodyDrive> drives;  ///< velocity-driven bodies ([[body]] drive.*; Solver::set_drives)
   std::vector<BodyInfo> bodies;  ///< one per [[body]], scene order
 };
 

@@ -7,7 +7,8 @@
 ///          f_i = -sum_p V_p (sigma_p - q_p I) . grad S_ip + sum_p S_ip m_p b_p + m_i g
 ///   grid:  v_i = (mv)_i/m_i;  v*_i = v_i + dt f_i/m_i  (only where m_i > m_min, else v*_i = v_i)
 ///   BCs:   fixed: v = 0 on the face plane and the ghost layers; symmetry: normal component 0 on
-///          the plane, mirror image on the ghost layers (Uintah MPMBoundCond)
+///          the plane, mirror image on the ghost layers (Uintah MPMBoundCond); then driven bodies:
+///          v = v_T(t) on the nodes they occupy, reaction recorded (body_drive.hpp, drive.cpp)
 ///   G2P:   v_p <- alpha (v_p + sum S (v* - v)) + (1 - alpha) sum S v*   (alpha = FLIP fraction)
 ///          x_p <- x_p + dt sum S v*
 ///   L_p = sum_i v^L_i (x) grad S_ip,  F <- (I + L dt) F,  V = V0 det F, then the material style.
@@ -35,7 +36,8 @@
 /// Implementation, one file per stage in mpm/src/solver/: step.cpp (construction, initialize,
 /// stable_dt, the USL/MUSL/USF schedule, save_backup), binning.cpp (bin, reorder, chunks),
 /// transfer.cpp (P2G, G2P, MUSL re-projection), grid.cpp (make_grid, grid velocity and update,
-/// boundary conditions), material_update.cpp (style call, energy, artificial viscosity),
+/// boundary conditions), drive.cpp (velocity-driven bodies), material_update.cpp (style call,
+/// energy, artificial viscosity),
 /// outflow.cpp, diagnostics.cpp; shared kernels in kernels.hpp. Scene names of the choices are the
 /// tables kSchemes and kBoundaryTypes below.
 #pragma once
@@ -51,6 +53,7 @@
 #include "common/field.hpp"
 #include "common/grid.hpp"
 #include "common/status.hpp"
+#include "mpm/body_drive.hpp"
 #include "mpm/particles.hpp"
 #include "mpm/shape_functions.hpp"
 
@@ -156,6 +159,7 @@ struct SolverResume {
   std::vector<common::Field> outflow_fields;  ///< output state fields of the removed particles
   std::vector<double> outflow_init;         ///< initial value of each of those fields
   Diagnostics outflow_totals;               ///< totals of the removed particles
+  std::vector<DriveLoad> drive_loads;       ///< load of each drive (Solver::set_drives order)
 };
 
 class Solver {
@@ -190,6 +194,12 @@ class Solver {
   const common::GridInfo& grid() const { return grid_; }
   const SolverConfig& config() const { return cfg_; }
   void set_body_force(BodyForce f) { body_force_ = std::move(f); }
+  /// Velocity-driven bodies (body_drive.hpp): set before initialize() or resume(). Sets the
+  /// particles of each body to v_T(t). Throws common::InputError on overlapping id ranges.
+  void set_drives(std::vector<BodyDrive> drives);
+  const std::vector<BodyDrive>& drives() const { return drives_; }
+  /// The load of each drive on the rest of the system (body_drive.hpp), set_drives order.
+  const std::vector<DriveLoad>& drive_loads() const { return drive_load_; }
   /// Totals (deterministic chunked sums).
   Diagnostics diagnostics() const;
   /// Bytes of per-particle storage (particles + material state) divided by the particle count.
@@ -243,6 +253,17 @@ class Solver {
   void grid_integrate(double dt);
   /// Boundary conditions (fixed / symmetry faces, SolverConfig::boundary) on velocity slot `s`.
   void apply_bc(GridSlot s);
+  /// Drives (drive.cpp): reset the driven particles to v_T(time_) and list the nodes C_k.
+  void drive_prepare();
+  /// Constrain velocity slot `s` of the nodes C_k to v_T(t); `record` 1: this is v_i (keep
+  /// sum m c1), 2: this is v*_i (sum m c2, then the step's DriveLoad), 0: nothing recorded.
+  void apply_drive(GridSlot s, double t, int record, double dt);
+  /// Index of the drive holding particle id `id`, or -1.
+  int drive_of(std::uint64_t id) const {
+    for (std::size_t k = 0; k < drives_.size(); ++k)
+      if (drives_[k].holds(id)) return static_cast<int>(k);
+    return -1;
+  }
   /// G2P; `flags` (detail::G2P) selects what is updated, `Lfrom` the grid velocity of L.
   template <int NPA, int flags, GridSlot Lfrom> void g2p(double dt);
   template <int NPA> void musl_remap();
@@ -270,6 +291,13 @@ class Solver {
   BodyForce body_force_;
   std::vector<double> body_accel_;
   std::vector<double> mom2_;  ///< MUSL re-projected nodal momentum (3 per node)
+  // velocity drives (drive.cpp)
+  std::vector<BodyDrive> drives_;
+  std::vector<DriveLoad> drive_load_;
+  std::vector<double> drive_mass_;                 ///< M_k [kg]
+  std::vector<std::vector<std::size_t>> drive_nodes_;  ///< C_k of the current step
+  std::vector<std::int32_t> node_drive_;           ///< per node: drive index, or -1
+  std::vector<Eigen::Vector3d> drive_c1_;          ///< sum m_i c1_i of the current step
 
   // binning
   Eigen::Vector3i nblocks_;

@@ -5,7 +5,8 @@
 ///
 ///   e_{n+1} = e_n + dt/(2 rho_{n+1}) (sigma_n : L + sigma_{n+1} : L)  +  q |tr D| dt / rho_{n+1}
 ///   q = rho (A1 c_bulk |tr D| h + A2 (tr D h)^2) if tr D < 0 else 0
-///   max_p (c_dil,p + |v_p|) for dt = C min(h) / max_p (c_dil,p + |v_p|)
+///   max_p (c_dil,p + |v_p|) for dt = C min(h) / max_p (c_dil,p + |v_p|)  (c_dil = 0 for the
+///   particles of velocity-driven bodies, which move rigidly: body_drive.hpp)
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -99,7 +100,9 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
         ps_.heat_shock[ch.begin + k] += qq * (-trD) * dt / rho;
       }
     }
-    const double sp2 = ws[k] + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
+    // a driven body is rigid (its nodes are prescribed, body_drive.hpp): no wave speed in the CFL
+    const double wk = !drives_.empty() && drive_of(b.id[k]) >= 0 ? 0.0 : ws[k];
+    const double sp2 = wk + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
     const bool finite = std::isfinite(s[0] + s[1] + s[2] + s[3] + s[4] + s[5] + e[k] + sp2);
     if (!finite) {
       if (!fails++) {

@@ -10,6 +10,8 @@
 ///         -> v** -> BC(v**) -> G2P (x_p from v*, L from v**)
 ///   USF:  P2G (m, mv) -> v -> BC(v) -> G2P (L from v, stress update) -> P2G (f) -> v*
 ///         -> BC(v*) -> G2P (v_p, x_p)
+///   BC = the face conditions, then the velocity of driven bodies on their nodes (v at t_n,
+///   v* and v** at t_n + dt; body_drive.hpp, drive.cpp), which also records their reaction.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -84,6 +86,7 @@ void Solver::step(double dt) {
     reorder();
   }
   lin ? bin<2>() : bin<3>();
+  drive_prepare();  // driven bodies: particles at v_T(t_n), their nodes C_k (drive.cpp)
   if (body_force_) {
     body_accel_.resize(3 * ps_.size());
     const std::size_t n = ps_.size();
@@ -107,46 +110,53 @@ void Solver::step(double dt) {
     constexpr GridSlot FROM = decltype(from)::value;
     lin ? g2p<2, FL, FROM>(dt) : g2p<3, FL, FROM>(dt);
   };
+  // face conditions, then the drives' velocity condition (body_drive.hpp) on slot s at time t;
+  // `record` 1: v_i at t_n, 2: v*_i at t_n + dt (the reaction), 0: MUSL v**_i
+  auto bc = [&](GridSlot s, double t, int record) {
+    apply_bc(s);
+    if (!drives_.empty()) apply_drive(s, t, record, dt);
+  };
+  const double t1 = time_ + dt;
   using Velocity = integral_constant<GridSlot, GridSlot::velocity>;
   using Updated = integral_constant<GridSlot, GridSlot::updated_velocity>;
   switch (cfg_.scheme) {
     case Scheme::usl:
       scat(integral_constant<int, kMass | kMom | kForce>{});
       grid_velocity();
-      apply_bc(GridSlot::velocity);
+      bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
-      apply_bc(GridSlot::updated_velocity);
+      bc(GridSlot::updated_velocity, t1, 2);
       gather(integral_constant<int, kVel | kPos | kGrad>{}, Updated{});
       break;
     case Scheme::musl: {
       scat(integral_constant<int, kMass | kMom | kForce>{});
       grid_velocity();
-      apply_bc(GridSlot::velocity);
+      bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
-      apply_bc(GridSlot::updated_velocity);
+      bc(GridSlot::updated_velocity, t1, 2);
       // fused: FLIP/PIC velocity update and re-projection of the new particle momenta
       lin ? musl_remap<2>() : musl_remap<3>();
       grid_velocity();
-      apply_bc(GridSlot::velocity);
+      bc(GridSlot::velocity, t1, 0);
       gather(integral_constant<int, kPos | kGrad>{}, Velocity{});
       break;
     }
     case Scheme::midpoint:
       scat(integral_constant<int, kMass | kMom | kForce>{});
       grid_velocity();
-      apply_bc(GridSlot::velocity);
+      bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
-      apply_bc(GridSlot::updated_velocity);
+      bc(GridSlot::updated_velocity, t1, 2);
       gather(integral_constant<int, kVel | kPos | kGrad>{}, integral_constant<GridSlot, GridSlot::midpoint>{});
       break;
     case Scheme::usf:
       scat(integral_constant<int, kMass | kMom>{});
       grid_velocity();
-      apply_bc(GridSlot::velocity);
+      bc(GridSlot::velocity, time_, 1);
       gather(integral_constant<int, kGrad>{}, Velocity{});
       scat(integral_constant<int, kForce>{});
       grid_integrate(dt);
-      apply_bc(GridSlot::updated_velocity);
+      bc(GridSlot::updated_velocity, t1, 2);
       gather(integral_constant<int, kVel | kPos>{}, Updated{});
       break;
   }
