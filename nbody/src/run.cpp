@@ -21,7 +21,7 @@
 #include "ssdem/scene_setup.hpp"
 
 namespace ssdem {
-namespace {
+namespace detail {
 // Files a run of ssdem-grav writes into its output directory (for directories written before
 // run manifests existed: the previous run's files a completed run removes).
 bool is_output(const std::string& n) {
@@ -67,6 +67,12 @@ common::SeriesFormat series_format() {
                                {"wall_s", "s"}},
                               {.precision = 17});
 }
+}  // namespace detail
+namespace {
+using detail::is_output;
+using detail::series_format;
+using detail::snap_name;
+using detail::snap_step;
 std::string cadence_text(const SimConfig& c) {
   std::ostringstream os;
   if (c.adaptive_gravity)

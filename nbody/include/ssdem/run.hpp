@@ -10,13 +10,24 @@
 #pragma once
 #include <string>
 
+#include <cstdint>
+
 #include "common/provenance.hpp"
 #include "common/schema.hpp"
+#include "common/series_csv.hpp"
 
 namespace ssdem {
 
 /// Run a scene; `restart` = checkpoint file to continue from ("" = fresh start).
 /// Returns the process exit code (0, or 128+signal when interrupted).
 int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const std::string& restart);
+
+/// Shared with the MPI driver (mpi/run_mpi.hpp), so both write the same files.
+namespace detail {
+bool is_output(const std::string& name);                              ///< a file a run writes
+std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
+std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1
+common::SeriesFormat series_format();                                 ///< series.csv columns
+}  // namespace detail
 
 }  // namespace ssdem
