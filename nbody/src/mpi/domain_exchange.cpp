@@ -81,7 +81,7 @@ void DomainSim::exchange() {
   const std::uint64_t total = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
   const std::uint64_t most = *std::max_element(counts.begin(), counts.end());
   const double mean = static_cast<double>(total) / comm_.size;
-  if (static_cast<double>(most) > std::ceil((1.0 + imbalance_) * mean)) {
+  if (static_cast<double>(most) > (1.0 + imbalance_) * mean && static_cast<double>(most) - mean >= 1.0) {
     struct GX {
       std::uint64_t g;
       double x[3];
@@ -240,6 +240,20 @@ void DomainSim::halo_update() {
   }
   stats_.bytes_halo += comm_.bytes_sent - b0;
   stats_.wall_comm += omp_get_wtime() - t0;
+}
+
+std::size_t DomainSim::cross_rank_contacts() const {
+  unsigned long long n = 0;
+  for (const HistoryRecord& r : owned_history()) n += !is_wall(r) && !mine_[slot_of_id_.at(r.id_b)];
+  MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_.c);
+  return n;
+}
+
+int DomainSim::owner_of_id(std::uint64_t id) const {
+  const auto it = slot_of_id_.find(id);
+  int r = it != slot_of_id_.end() && mine_[it->second] ? comm_.rank : -1;
+  MPI_Allreduce(MPI_IN_PLACE, &r, 1, MPI_INT, MPI_MAX, comm_.c);
+  return r;
 }
 
 SimState DomainSim::gather_state() const {

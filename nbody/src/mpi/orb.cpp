@@ -43,9 +43,12 @@ int OrbTree::build(const std::vector<Vec3>& x, std::vector<std::size_t>& idx, st
       cut = std::nextafter(x[idx[e - 1]][axis], INFINITY);
       t = e;
     } else {
-      cut = x[idx[b + want]][axis];
       t = b + want;
-      while (t > b && x[idx[t - 1]][axis] == cut) --t;  // ties go to the upper side
+      const double up = x[idx[t]][axis];
+      while (t > b && x[idx[t - 1]][axis] == up) --t;  // ties go to the upper side
+      // midway between the two sides: spheres near the cut move the least distance before changing rank
+      cut = t > b ? 0.5 * (x[idx[t - 1]][axis] + up) : up;
+      if (!(cut > (t > b ? x[idx[t - 1]][axis] : -INFINITY))) cut = up;  // midpoint rounded down onto the lower side
     }
   }
   nodes_[self].axis = axis;

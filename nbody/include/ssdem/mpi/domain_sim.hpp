@@ -4,7 +4,8 @@
 /// decomposition. Equations: simulation.hpp; this file adds only where each quantity lives.
 ///
 /// Ownership. Each sphere is owned by one rank, chosen by orthogonal recursive bisection by count
-/// (orb.hpp), rebuilt when max_r n_r > (1 + imbalance) * mean (rounded up). Owned spheres are
+/// (orb.hpp), rebuilt at an exchange when max_r n_r > (1 + imbalance) * mean and max_r n_r >= mean + 1.
+/// Owned spheres are
 /// integrated by their rank; they carry their global index g (input order), which fixes every
 /// summation order, so results do not depend on where a sphere lives.
 /// Ghosts and exchanges (LAMMPS-style halo with a skin). At an exchange each rank takes the spheres
@@ -71,6 +72,10 @@ class DomainSim {
   std::size_t owned() const { return own_.size(); }
   std::size_t ghosts() const { return sp_.size() - own_.size(); }
   std::size_t global_count() const { return gsp_.size(); }
+  /// Collective: contacts between spheres of different ranks (summed over the ranks).
+  std::size_t cross_rank_contacts() const;
+  /// Collective: the rank owning the sphere with this id (-1 if none).
+  int owner_of_id(std::uint64_t id) const;
   /// Collective: the full state on rank 0, equal to Simulation::state() of a one-rank run (carried
   /// fields included; history in the one-rank order); an empty state on the other ranks.
   SimState gather_state() const;

@@ -1,8 +1,8 @@
 /// @file orb.hpp
 /// Orthogonal recursive bisection (ORB) of the spheres among the MPI ranks by particle count
 /// (Salmon 1991; pkdgrav's domain decomposition, Stadel 2001 §2.3): the rank range [r0, r1) and
-/// its spheres are split along the longest axis of their bounding box at the coordinate that
-/// puts round(n * floor(nr/2) / nr) spheres on the lower side, recursively, until one rank is
+/// its spheres are split along the longest axis of their bounding box, midway between the
+/// coordinates that put round(n * floor(nr/2) / nr) spheres on the lower side, recursively, until one rank is
 /// left. The cuts are kept as a binary tree: a position belongs to the rank of the leaf it
 /// descends to (x[axis] < cut: lower side), so ownership between rebalances is a lookup by
 /// position and a sphere may move to any rank in one step (no neighbour-only assumption).
