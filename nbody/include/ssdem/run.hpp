@@ -15,6 +15,7 @@
 #include "common/provenance.hpp"
 #include "common/schema.hpp"
 #include "common/series_csv.hpp"
+#include "ssdem/simulation.hpp"
 
 namespace ssdem {
 
@@ -28,6 +29,15 @@ bool is_output(const std::string& name);                              ///< a fil
 std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
 std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1
 common::SeriesFormat series_format();                                 ///< series.csv columns
+/// When a run writes what: end time and step (rounded up to a gravity-block boundary), snapshot
+/// interval, checkpoint cadences, series cadence (a multiple of the fixed gravity block), paths.
+struct OutputPlan {
+  double t_end = 0, snap_dt = 0, ckpt_wall = 0;
+  std::int64_t series_every = 1, ckpt_every = 0, n_end = 0;
+  std::vector<double> times;
+  std::string series_path, ckpt_path;
+};
+OutputPlan output_plan(const common::Scene& scene, const SimConfig& cfg, const std::string& dir);
 }  // namespace detail
 
 }  // namespace ssdem

@@ -11,11 +11,12 @@
 
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
+#include "ssdem/gravity_cadence.hpp"
 #include "ssdem/mpi/domain_sim.hpp"
 
 namespace ssdem::mpi {
 namespace {
-constexpr double kMaxChange = 0.1;  // as Simulation (simulation.cpp): largest change of one sphere per block
+constexpr std::size_t kOmpMin = 2048;  // below this many own spheres a loop runs serially
 }
 
 void DomainSim::setup(const Spheres& all) {
@@ -120,8 +121,11 @@ void DomainSim::compute_gravity() {
 
 void DomainSim::compute_forces(bool initial) {
   const double h = cfg_.dt, hh = 0.5 * h;
+  const std::size_t no = own_.size();
   if (contacts_) {
-    for (std::uint32_t i : own_) {
+#pragma omp parallel for schedule(static) if (no >= kOmpMin)
+    for (std::size_t k = 0; k < no; ++k) {
+      const std::uint32_t i = own_[k];
       if (initial) {
         vpred_[i] = sp_.v[i];
         wpred_[i] = sp_.w[i];
@@ -151,7 +155,9 @@ void DomainSim::compute_forces(bool initial) {
   }
   if (cfg_.self_gravity && initial) compute_gravity();
   const Vec3 g = cfg_.uniform_g;
-  for (std::uint32_t i : own_) {
+#pragma omp parallel for schedule(static) if (no >= kOmpMin)
+  for (std::size_t k = 0; k < no; ++k) {
+    const std::uint32_t i = own_[k];
     Vec3 a = g;
     if (contacts_) {
       a += F_[i] / sp_.m[i];
@@ -170,7 +176,10 @@ void DomainSim::step() {
   const bool open_kick = sg && step_ == block_start_;
   double t0 = omp_get_wtime();
   double moved2 = 0;
-  for (std::uint32_t i : own_) {
+  const std::size_t no = own_.size();
+#pragma omp parallel for schedule(static) reduction(max : moved2) if (no >= kOmpMin)
+  for (std::size_t q = 0; q < no; ++q) {
+    const std::uint32_t i = own_[q];
     if (open_kick) sp_.v[i] += hk * ag_[i];
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
@@ -193,7 +202,10 @@ void DomainSim::step() {
     compute_gravity();
   }
   t0 = omp_get_wtime();
-  for (std::uint32_t i : own_) {
+  const std::size_t no2 = own_.size();  // the exchange may have changed the own set
+#pragma omp parallel for schedule(static) if (no2 >= kOmpMin)
+  for (std::size_t q = 0; q < no2; ++q) {
+    const std::uint32_t i = own_[q];
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
     if (sg && close_kick) sp_.v[i] += hk * ag_[i];
@@ -231,18 +243,7 @@ void DomainSim::close_gravity_block() {
         d2 += part[r];
         cmax = std::max(cmax, part[r + 1]);
       }
-      const double c = g2 > 0 ? std::sqrt(d2 / g2) : 0.0;
-      const double r = std::max(c / cfg_.gravity_tolerance, cmax / kMaxChange);
-      const double grow = r > 0 ? static_cast<double>(k) / r : 2.0 * k;
-      cadence_.max_change_one = std::max(cadence_.max_change_one, cmax);
-      next = static_cast<int>(std::clamp(std::floor(grow), 1.0,
-                                         static_cast<double>(std::min(2 * k, cfg_.gravity_max_every))));
-      ++cadence_.blocks;
-      cadence_.steps += k;
-      cadence_.min_block = cadence_.blocks == 1 ? k : std::min<std::int64_t>(cadence_.min_block, k);
-      cadence_.max_block = std::max<std::int64_t>(cadence_.max_block, k);
-      cadence_.max_change = std::max(cadence_.max_change, c);
-      cadence_.sum_change += c;
+      next = next_gravity_block(k, g2, d2, cmax, cfg_, cadence_);
     }
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));

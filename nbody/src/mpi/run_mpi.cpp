@@ -120,19 +120,8 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   on_root(comm, [&] { common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info); });
   spdlog::info("ssdem-grav on {} MPI ranks: {} spheres, dt = {} s", comm.size, sim->global_count(), cfg.dt);
 
-  const double t_end = sc.real("time.end");
-  const std::int64_t k = cfg.adaptive_gravity ? 1 : cfg.gravity_every;
-  std::int64_t series_every = sc.integer("output.series_every");
-  series_every = (series_every + k - 1) / k * k;
-  const double snap_dt = sc.real("output.snapshot_interval");
-  std::vector<double> times = sc.real_list("output.times");
-  std::sort(times.begin(), times.end());
-  const std::int64_t ckpt_every = sc.integer("output.checkpoint_every");
-  const double ckpt_wall = sc.real("output.checkpoint_wall");
-  const std::string series_path = (std::filesystem::path(dir) / "series.csv").string();
-  const std::string ckpt_path = (std::filesystem::path(dir) / "checkpoint.h5").string();
-  std::int64_t n_end = static_cast<std::int64_t>(std::ceil(t_end / cfg.dt - 1e-9));
-  n_end = (n_end + k - 1) / k * k;
+  const auto [t_end, snap_dt, ckpt_wall, series_every, ckpt_every, n_end, times, series_path, ckpt_path] =
+      detail::output_plan(sc, cfg, dir);
   sim->set_end_step(n_end);
 
   std::unique_ptr<common::SeriesFile> series;

@@ -188,6 +188,28 @@ TEST(MpiDomain, OrbitBodiesChangeRanksAndARankMayBeEmpty) {
   }  // two bodies, three ranks: a rank is always empty
 }
 
+TEST(MpiDomain, TwoSpheresCollideWithMoreRanksThanSpheres) {
+  // a head-on contact of two spheres (G = 1 units) on 2 or 3 ranks: with 3 a rank never has a
+  // sphere or a ghost and still takes part in every exchange, halo and reduction
+  Spheres sp;
+  sp.push(1, Vec3(-0.105, 0.01, 0), Vec3(0.5, 0, 0), Vec3(0, 0, 3), 0.004, 0.1);
+  sp.push(2, Vec3(0.105, 0, 0), Vec3(-0.5, 0, 0), Vec3::Zero(), 0.004, 0.1);
+  const SimConfig cfg = config(sp, 1.0, false, false);
+  int empty = 0, crossing = 0;
+  const SimState st = compare(sp, cfg, 300, "two spheres, head-on contact", [&](const mpi::DomainSim& d) {
+    empty += total_int(d.owned() == 0 ? 1 : 0);
+    crossing += d.cross_rank_contacts() > 0;
+  });
+  if (world().rank == 0) {
+    std::printf("two spheres: rank-steps without spheres %d, steps with the contact across ranks %d\n", empty, crossing);
+    EXPECT_LT(st.sp.v[0].x(), 0.0);  // they bounced
+  }
+  EXPECT_GT(crossing, 10);
+  if (world().size >= 3) {
+    EXPECT_GE(empty, 301);
+  }
+}
+
 TEST(MpiDomain, FragmentCrossesEveryDomainAt5kmsInOneStep) {
   // SI: a 8 m pile of 1 m spheres (2000 kg/m^3) and a 1 m fragment at 5 km/s beside it; one step
   // (dt ~ 0.03 s) carries it 150 m, across every domain (the pile is 16 m wide)
