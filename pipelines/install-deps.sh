@@ -1,11 +1,25 @@
 #!/usr/bin/env bash
 # Install the Debian 12 packages this project needs, only those that are missing.
-# Runs apt-get as root (or through sudo). Safe to run repeatedly. Extra package names given as
-# arguments are added (pipelines/impact/figures.mk: paraview python3-paraview xvfb xauth).
+# Runs apt-get as root (or through sudo). Safe to run repeatedly.
+#   install-deps.sh [PKG...]        the serial build's packages, plus any extra Debian package names
+#                                   (pipelines/impact/figures.mk: paraview python3-paraview xvfb xauth)
+#   install-deps.sh --mpi [PKG...]  also OpenMPI and parallel HDF5 for the SUITE_MPI=ON build (build-mpi/);
+#                                   libhdf5-openmpi-dev installs beside the serial libhdf5-dev (own include
+#                                   and library directories), so the serial build is unchanged
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libcli11-dev
       libspdlog-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
-      python3-numpy python3-h5py python3-matplotlib python3-scipy "$@")
+      python3-numpy python3-h5py python3-matplotlib python3-scipy)
+if [ "${1:-}" = "--mpi" ]; then
+  pkgs+=(libopenmpi-dev openmpi-bin libhdf5-openmpi-dev)
+  shift
+fi
+for p in "$@"; do
+  case "$p" in
+    -*) echo "install-deps: unknown option '$p' (valid: --mpi, then package names)" >&2; exit 2 ;;
+  esac
+  pkgs+=("$p")
+done
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -25,7 +25,8 @@ struct Lists {
 };
 }  // namespace
 
-void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot) {
+void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot,
+                          const std::vector<std::uint8_t>* sinks) {
   const std::size_t n = sp.size();
   acc.assign(n, Vec3::Zero());
   if (pot) pot->assign(n, 0.0);
@@ -40,6 +41,11 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
   const double itheta = 1.0 / p_.theta;
   const std::size_t nl = groups_.size();
   double tot_cells = 0, tot_parts = 0;
+  auto has_sink = [&](const Node& g) {
+    for (std::uint32_t t = g.start; t < g.start + g.count; ++t)
+      if ((*sinks)[perm_[t]]) return true;
+    return false;
+  };
 #pragma omp parallel reduction(+ : tot_cells, tot_parts) if (n >= 1024)
   {
     Lists w;
@@ -48,6 +54,7 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
     for (std::size_t L = 0; L < nl; ++L) {
       const std::uint32_t gi = groups_[L];
       const Node& g = nodes_[gi];
+      if (sinks && !has_sink(g)) continue;
       w.cells.clear();
       w.far.clear();
       w.near.clear();

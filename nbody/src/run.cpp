@@ -22,7 +22,7 @@
 #include "ssdem/scene_setup.hpp"
 
 namespace ssdem {
-namespace {
+namespace detail {
 // Files a run of ssdem-grav writes into its output directory (for directories written before
 // run manifests existed: the previous run's files a completed run removes).
 bool is_output(const std::string& n) {
@@ -79,6 +79,29 @@ common::SeriesFormat series_format(bool bonds) {
   c.insert(c.end(), {{"bond_elastic_J", "J"}, {"bond_released_J", "J"}, {"bonds_intact", ""}, {"bonds_broken", ""}});
   return common::SeriesFormat(std::move(c), {.precision = 17});
 }
+OutputPlan output_plan(const common::Scene& sc, const SimConfig& cfg, const std::string& dir) {
+  OutputPlan p;
+  p.t_end = sc.real("time.end");
+  const std::int64_t k = cfg.adaptive_gravity ? 1 : cfg.gravity_every;
+  p.series_every = (sc.integer("output.series_every") + k - 1) / k * k;
+  p.snap_dt = sc.real("output.snapshot_interval");
+  p.times = sc.real_list("output.times");
+  std::sort(p.times.begin(), p.times.end());
+  p.ckpt_every = sc.integer("output.checkpoint_every");
+  p.ckpt_wall = sc.real("output.checkpoint_wall");
+  p.series_path = (std::filesystem::path(dir) / "series.csv").string();
+  p.ckpt_path = (std::filesystem::path(dir) / "checkpoint.h5").string();
+  // end on a gravity-block boundary (velocities physical there)
+  p.n_end = static_cast<std::int64_t>(std::ceil(p.t_end / cfg.dt - 1e-9));
+  p.n_end = (p.n_end + k - 1) / k * k;
+  return p;
+}
+}  // namespace detail
+namespace {
+using detail::is_output;
+using detail::series_format;
+using detail::snap_name;
+using detail::snap_step;
 std::string cadence_text(const SimConfig& c) {
   std::ostringstream os;
   if (c.adaptive_gravity)
@@ -228,20 +251,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   }
   sim->set_keep_last_good(std::max<std::int64_t>(cfg.gravity_every, 100 / cfg.gravity_every * cfg.gravity_every));
 
-  const double t_end = sc.real("time.end");
-  const std::int64_t k = cfg.adaptive_gravity ? 1 : cfg.gravity_every;
-  std::int64_t series_every = sc.integer("output.series_every");
-  series_every = (series_every + k - 1) / k * k;
-  const double snap_dt = sc.real("output.snapshot_interval");
-  std::vector<double> times = sc.real_list("output.times");
-  std::sort(times.begin(), times.end());
-  const std::int64_t ckpt_every = sc.integer("output.checkpoint_every");
-  const double ckpt_wall = sc.real("output.checkpoint_wall");
-  const std::string series_path = (std::filesystem::path(dir) / "series.csv").string();
-  const std::string ckpt_path = (std::filesystem::path(dir) / "checkpoint.h5").string();
-  // end on a gravity-block boundary (velocities physical there)
-  std::int64_t n_end = static_cast<std::int64_t>(std::ceil(t_end / cfg.dt - 1e-9));
-  n_end = (n_end + k - 1) / k * k;
+  const auto [t_end, snap_dt, ckpt_wall, series_every, ckpt_every, n_end, times, series_path, ckpt_path] =
+      detail::output_plan(sc, cfg, dir);
   sim->set_end_step(n_end);
 
   // Rows go to series.csv.partial and are renamed onto series.csv when the run ends, stops on a

@@ -11,14 +11,12 @@
 
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
+#include "ssdem/gravity_cadence.hpp"
 
 namespace ssdem {
 namespace {
 // Below this many items a loop runs serially (thread start-up would dominate).
 constexpr std::size_t kOmpMin = 2048;
-// Adaptive gravity cadence: largest relative force change of any one sphere per block (above the
-// tree's own per-sphere error jumps when the tree changes, up to ~2e-2).
-constexpr double kMaxChange = 0.1;
 double cpu_now() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -238,18 +236,7 @@ void Simulation::close_gravity_block() {
         d2 += d * d;
         cmax = std::max(cmax, d / std::max({ag_[i].norm(), floor, 1e-300}));
       }
-      const double c = g2 > 0 ? std::sqrt(d2 / g2) : 0.0;
-      const double r = std::max(c / cfg_.gravity_tolerance, cmax / kMaxChange);
-      const double grow = r > 0 ? static_cast<double>(k) / r : 2.0 * k;
-      cadence_.max_change_one = std::max(cadence_.max_change_one, cmax);
-      next = static_cast<int>(std::clamp(std::floor(grow), 1.0,
-                                         static_cast<double>(std::min(2 * k, cfg_.gravity_max_every))));
-      ++cadence_.blocks;
-      cadence_.steps += k;
-      cadence_.min_block = cadence_.blocks == 1 ? k : std::min<std::int64_t>(cadence_.min_block, k);
-      cadence_.max_block = std::max<std::int64_t>(cadence_.max_block, k);
-      cadence_.max_change = std::max(cadence_.max_change, c);
-      cadence_.sum_change += c;
+      next = next_gravity_block(k, g2, d2, cmax, cfg_, cadence_);
     }
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));

@@ -75,7 +75,10 @@ class TreeGravity {
   explicit TreeGravity(GravityParams p) : p_(p) {}
   const GravityParams& params() const { return p_; }
   /// Build the tree for the current positions and compute accelerations (and potentials).
-  void compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot = nullptr);
+  /// `sinks` (optional, one flag per sphere): walk only the groups holding a flagged sphere; the
+  /// others get zero (MPI ranks evaluate their own spheres; flagged results are unchanged).
+  void compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot = nullptr,
+               const std::vector<std::uint8_t>* sinks = nullptr);
   const TreeStats& stats() const { return stats_; }
   /// Bytes per sphere held by the tree (nodes + permutation + sorted copies).
   double bytes_per_sphere(std::size_t n) const;

@@ -10,13 +10,34 @@
 #pragma once
 #include <string>
 
+#include <cstdint>
+
 #include "common/provenance.hpp"
 #include "common/schema.hpp"
+#include "common/series_csv.hpp"
+#include "ssdem/simulation.hpp"
 
 namespace ssdem {
 
 /// Run a scene; `restart` = checkpoint file to continue from ("" = fresh start).
 /// Returns the process exit code (0, or 128+signal when interrupted).
 int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const std::string& restart);
+
+/// Shared with the MPI driver (mpi/run_mpi.hpp), so both write the same files.
+namespace detail {
+bool is_output(const std::string& name);                              ///< a file a run writes
+std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
+std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1
+common::SeriesFormat series_format();                                 ///< series.csv columns
+/// When a run writes what: end time and step (rounded up to a gravity-block boundary), snapshot
+/// interval, checkpoint cadences, series cadence (a multiple of the fixed gravity block), paths.
+struct OutputPlan {
+  double t_end = 0, snap_dt = 0, ckpt_wall = 0;
+  std::int64_t series_every = 1, ckpt_every = 0, n_end = 0;
+  std::vector<double> times;
+  std::string series_path, ckpt_path;
+};
+OutputPlan output_plan(const common::Scene& scene, const SimConfig& cfg, const std::string& dir);
+}  // namespace detail
 
 }  // namespace ssdem

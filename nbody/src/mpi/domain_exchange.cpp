@@ -1,0 +1,300 @@
+/// @file domain_exchange.cpp
+/// Where the spheres of DomainSim live (domain_sim.hpp): the first distribution, exchanges
+/// (rebalance, migration, history routing by the owner rule), ghosts, the per-step halo update,
+/// and gathering the full state on rank 0 in the one-rank layout.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "ssdem/mpi/domain_sim.hpp"
+
+namespace ssdem::mpi {
+namespace {
+// Sphere i of `sp`, every array of Spheres::zip_arrays, appended to / read from a byte buffer.
+void put_sphere(const Spheres& sp, std::size_t i, std::vector<char>& b) {
+  sp.for_each_array([&](const common::SphereArray&, const auto& arr) { put(b, arr[i]); });
+}
+void get_sphere(const std::vector<char>& b, std::size_t& off, Spheres& sp, std::size_t at) {
+  sp.for_each_array([&](const common::SphereArray&, auto& arr) {
+    using T = typename std::decay_t<decltype(arr)>::value_type;
+    arr[at] = get<T>(b, off);
+  });
+}
+void append_sphere(const std::vector<char>& b, std::size_t& off, Spheres& sp) {
+  sp.resize(sp.size() + 1);
+  get_sphere(b, off, sp, sp.size() - 1);
+}
+bool is_wall(const HistoryRecord& r) { return r.id_b >= kWallIdBase; }
+// Distance from p to a box (0 inside).
+double box_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero()).norm();
+}
+}  // namespace
+
+void DomainSim::pack_owned(std::size_t i, std::vector<char>& b) const {
+  put(b, gidx_[i]);
+  put_sphere(sp_, i, b);
+  for (const auto* v : {&a_, &alpha_, &ag_, &a_prev_, &alpha_prev_}) put(b, (*v)[i]);
+}
+
+void DomainSim::distribute(const SimState& all) {
+  const std::size_t n = all.sp.size();
+  orb_ = OrbTree(all.sp.x, comm_.size);
+  ++stats_.rebalances;
+  Owned own;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (orb_.owner(all.sp.x[i]) != comm_.rank) continue;
+    own.g.push_back(i);
+    own.a.push_back(all.a[i]);
+    own.alpha.push_back(all.alpha[i]);
+    own.ag.push_back(all.ag.size() == n ? all.ag[i] : Vec3::Zero());
+    own.a_prev.push_back(all.a_prev.size() == n ? all.a_prev[i] : Vec3::Zero());
+    own.alpha_prev.push_back(all.alpha_prev.size() == n ? all.alpha_prev[i] : Vec3::Zero());
+  }
+  own.sp.resize(own.g.size());
+  std::vector<char> b;
+  for (std::size_t k = 0; k < own.g.size(); ++k) {
+    b.clear();
+    put_sphere(all.sp, own.g[k], b);
+    std::size_t off = 0;
+    get_sphere(b, off, own.sp, k);
+  }
+  rebuild_local(std::move(own), all.history);
+}
+
+std::vector<HistoryRecord> DomainSim::owned_history() const {
+  std::vector<HistoryRecord> out;
+  if (!contacts_) return out;
+  for (const HistoryRecord& r : contacts_->export_history(sp_))
+    if (mine_[slot_of_id_.at(r.id_a)]) out.push_back(r);  // owner rule: the lower-index member's rank
+  return out;
+}
+
+void DomainSim::exchange() {
+  const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  halo_update();  // ghosts' current positions: routing of the history by partner position
+  const std::vector<HistoryRecord> recs = owned_history();
+  // rebalance when the largest domain exceeds the mean by the imbalance threshold
+  const std::vector<std::uint64_t> counts = comm_.gather(std::vector<std::uint64_t>{own_.size()});
+  const std::uint64_t total = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
+  const std::uint64_t most = *std::max_element(counts.begin(), counts.end());
+  const double mean = static_cast<double>(total) / comm_.size;
+  if (static_cast<double>(most) > (1.0 + imbalance_) * mean && static_cast<double>(most) - mean >= 1.0) {
+    struct GX {
+      std::uint64_t g;
+      double x[3];
+    };
+    std::vector<GX> mine;
+    for (std::uint32_t i : own_) mine.push_back(GX{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}});
+    std::vector<Vec3> x(total);
+    for (const GX& p : comm_.gather(mine)) x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
+    orb_ = OrbTree(x, comm_.size);
+    ++stats_.rebalances;
+  }
+  std::vector<int> dest(sp_.size());
+  for (std::size_t i = 0; i < sp_.size(); ++i) dest[i] = orb_.owner(sp_.x[i]);
+  // migration: every owned sphere goes to the rank owning its position (itself included)
+  std::vector<std::vector<char>> out(comm_.size);
+  for (std::uint32_t i : own_) pack_owned(i, out[dest[i]]);
+  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  Owned own;
+  for (const auto& b : in)
+    for (std::size_t off = 0; off < b.size();) {
+      own.g.push_back(get<std::uint64_t>(b, off));
+      append_sphere(b, off, own.sp);
+      for (auto* v : {&own.a, &own.alpha, &own.ag, &own.a_prev, &own.alpha_prev}) v->push_back(get<Vec3>(b, off));
+    }
+  // history: the owner's record goes to the new owners of both members
+  for (auto& b : out) b.clear();
+  for (const HistoryRecord& r : recs) {
+    const int ra = dest[slot_of_id_.at(r.id_a)];
+    const int rb = is_wall(r) ? ra : dest[slot_of_id_.at(r.id_b)];
+    put(out[ra], r);
+    if (rb != ra) put(out[rb], r);
+  }
+  std::vector<HistoryRecord> got;
+  for (const auto& b : comm_.alltoallv(out))
+    for (std::size_t off = 0; off < b.size();) got.push_back(get<HistoryRecord>(b, off));
+  stats_.bytes_exchange += comm_.bytes_sent - b0;
+  ++stats_.exchanges;
+  rebuild_local(std::move(own), got);
+  stats_.wall_comm += omp_get_wtime() - t0;
+}
+
+void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs) {
+  const std::size_t no = own.g.size();
+  std::vector<std::size_t> ord(no);
+  std::iota(ord.begin(), ord.end(), std::size_t{0});
+  std::sort(ord.begin(), ord.end(), [&](std::size_t p, std::size_t q) { return own.g[p] < own.g[q]; });
+  // bounding boxes of every rank's own spheres
+  std::vector<double> box(7, 0.0);
+  if (no > 0) {
+    Vec3 lo = own.sp.x[0], hi = own.sp.x[0];
+    for (std::size_t k = 0; k < no; ++k) {
+      lo = lo.cwiseMin(own.sp.x[k]);
+      hi = hi.cwiseMax(own.sp.x[k]);
+    }
+    box = {1.0, lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()};
+  }
+  const std::vector<double> boxes = comm_.gather(box);
+  // ghosts: own spheres within the reach of another rank's box
+  std::vector<std::vector<char>> out(comm_.size);
+  std::vector<std::vector<std::uint64_t>> sendg(comm_.size);
+  if (reach_ >= 0.0)
+    for (std::size_t k : ord)
+      for (int r = 0; r < comm_.size; ++r) {
+        const double* bx = &boxes[7 * r];
+        if (r == comm_.rank || bx[0] == 0.0) continue;
+        if (box_distance(own.sp.x[k], Vec3(bx[1], bx[2], bx[3]), Vec3(bx[4], bx[5], bx[6])) >= reach_) continue;
+        put(out[r], own.g[k]);
+        put_sphere(own.sp, k, out[r]);
+        sendg[r].push_back(own.g[k]);
+      }
+  const double b0 = comm_.bytes_sent;
+  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  stats_.bytes_exchange += comm_.bytes_sent - b0;
+  Spheres gh;
+  std::vector<std::uint64_t> ghg;
+  std::vector<int> ghr;
+  for (int r = 0; r < comm_.size; ++r)
+    for (std::size_t off = 0; off < in[r].size();) {
+      ghg.push_back(get<std::uint64_t>(in[r], off));
+      ghr.push_back(r);
+      append_sphere(in[r], off, gh);
+    }
+  // the local set: own + ghosts in global-index order
+  struct E {
+    std::uint64_t g;
+    std::size_t k;
+    bool own;
+  };
+  std::vector<E> e;
+  for (std::size_t k = 0; k < no; ++k) e.push_back(E{own.g[k], k, true});
+  for (std::size_t k = 0; k < ghg.size(); ++k) e.push_back(E{ghg[k], k, false});
+  std::sort(e.begin(), e.end(), [](const E& p, const E& q) { return p.g < q.g; });
+  const std::size_t nl = e.size();
+  sp_ = Spheres{};
+  sp_.resize(nl);
+  gidx_.resize(nl);
+  mine_.assign(nl, 0);
+  own_.clear();
+  for (auto* v : {&a_, &alpha_, &ag_, &a_prev_, &alpha_prev_, &vpred_, &wpred_, &F_, &T_})
+    v->assign(nl, Vec3::Zero());
+  ag_old_ = ag_;
+  std::vector<char> b;
+  std::vector<std::uint32_t> ghost_slot(ghg.size());
+  for (std::size_t s = 0; s < nl; ++s) {
+    b.clear();
+    put_sphere(e[s].own ? own.sp : gh, e[s].k, b);
+    std::size_t off = 0;
+    get_sphere(b, off, sp_, s);
+    gidx_[s] = e[s].g;
+    if (e[s].own) {
+      const std::size_t k = e[s].k;
+      mine_[s] = 1;
+      own_.push_back(static_cast<std::uint32_t>(s));
+      a_[s] = own.a[k];
+      alpha_[s] = own.alpha[k];
+      ag_[s] = own.ag[k];
+      a_prev_[s] = own.a_prev[k];
+      alpha_prev_[s] = own.alpha_prev[k];
+    } else {
+      ghost_slot[e[s].k] = static_cast<std::uint32_t>(s);
+    }
+  }
+  xex_ = sp_.x;
+  slot_of_id_.clear();
+  for (std::size_t s = 0; s < nl; ++s) slot_of_id_[sp_.id[s]] = static_cast<std::uint32_t>(s);
+  auto slot_of_g = [&](std::uint64_t g) {
+    return static_cast<std::uint32_t>(std::lower_bound(gidx_.begin(), gidx_.end(), g) - gidx_.begin());
+  };
+  send_.assign(comm_.size, {});
+  recv_.assign(comm_.size, {});
+  for (int r = 0; r < comm_.size; ++r)
+    for (std::uint64_t g : sendg[r]) send_[r].push_back(slot_of_g(g));
+  for (std::size_t k = 0; k < ghg.size(); ++k) recv_[ghr[k]].push_back(ghost_slot[k]);
+  gmine_.assign(gsp_.size(), 0);
+  for (std::uint32_t s : own_) gmine_[gidx_[s]] = 1;
+  if (contacts_) {
+    std::vector<HistoryRecord> mine;
+    for (const HistoryRecord& r : recs)
+      if (slot_of_id_.count(r.id_a) && (is_wall(r) || slot_of_id_.count(r.id_b))) mine.push_back(r);
+    contacts_->import_history(sp_, mine);
+  }
+}
+
+void DomainSim::halo_update() {
+  if (reach_ < 0.0) return;
+  const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  std::vector<std::vector<char>> out(comm_.size);
+  for (int r = 0; r < comm_.size; ++r)
+    for (std::uint32_t i : send_[r])
+      for (const Vec3* v : {&sp_.x[i], &sp_.v[i], &sp_.w[i], &vpred_[i], &wpred_[i]}) put(out[r], *v);
+  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  for (int r = 0; r < comm_.size; ++r) {
+    std::size_t off = 0;
+    for (std::uint32_t i : recv_[r])
+      for (Vec3* v : {&sp_.x[i], &sp_.v[i], &sp_.w[i], &vpred_[i], &wpred_[i]}) *v = get<Vec3>(in[r], off);
+  }
+  stats_.bytes_halo += comm_.bytes_sent - b0;
+  stats_.wall_comm += omp_get_wtime() - t0;
+}
+
+std::size_t DomainSim::cross_rank_contacts() const {
+  unsigned long long n = 0;
+  for (const HistoryRecord& r : owned_history()) n += !is_wall(r) && !mine_[slot_of_id_.at(r.id_b)];
+  MPI_Allreduce(MPI_IN_PLACE, &n, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, comm_.c);
+  return n;
+}
+
+int DomainSim::owner_of_id(std::uint64_t id) const {
+  const auto it = slot_of_id_.find(id);
+  int r = it != slot_of_id_.end() && mine_[it->second] ? comm_.rank : -1;
+  MPI_Allreduce(MPI_IN_PLACE, &r, 1, MPI_INT, MPI_MAX, comm_.c);
+  return r;
+}
+
+SimState DomainSim::gather_state() const {
+  std::vector<char> b, hb;
+  for (std::uint32_t i : own_) pack_owned(i, b);
+  for (const HistoryRecord& r : owned_history()) put(hb, r);
+  const double b0 = comm_.bytes_sent;
+  const std::vector<char> all = comm_.gather(b, 0), hall = comm_.gather(hb, 0);
+  stats_.bytes_other += comm_.bytes_sent - b0;
+  SimState st;
+  if (comm_.rank != 0) return st;
+  const std::size_t n = gsp_.size();
+  st.sp.resize(n);
+  std::vector<Vec3> a(n), alpha(n), ag(n), ap(n), alp(n);
+  for (std::size_t off = 0; off < all.size();) {
+    const auto g = get<std::uint64_t>(all, off);
+    get_sphere(all, off, st.sp, g);
+    for (auto* v : {&a, &alpha, &ag, &ap, &alp}) (*v)[g] = get<Vec3>(all, off);
+  }
+  st.sp.carried = carried_;
+  st.a = std::move(a);
+  st.alpha = std::move(alpha);
+  if (cfg_.self_gravity) st.ag = std::move(ag);
+  if (has_prev_) {
+    st.a_prev = std::move(ap);
+    st.alpha_prev = std::move(alp);
+  }
+  st.step = step_;
+  st.time = time_;
+  st.gravity_step = grav_step_;
+  st.gravity_block = block_;
+  // history in the one-rank order: pairs by (index a, index b), then walls by (index, wall)
+  std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;
+  for (std::size_t g = 0; g < n; ++g) g_of_id[st.sp.id[g]] = g;
+  for (std::size_t off = 0; off < hall.size();) st.history.push_back(get<HistoryRecord>(hall, off));
+  auto key = [&](const HistoryRecord& r) {
+    return is_wall(r) ? std::tuple(1, g_of_id.at(r.id_a), r.id_b) : std::tuple(0, g_of_id.at(r.id_a), g_of_id.at(r.id_b));
+  };
+  std::sort(st.history.begin(), st.history.end(),
+            [&](const HistoryRecord& p, const HistoryRecord& q) { return key(p) < key(q); });
+  return st;
+}
+
+}  // namespace ssdem::mpi

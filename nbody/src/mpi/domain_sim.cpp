@@ -1,0 +1,293 @@
+/// @file domain_sim.cpp
+/// The integrator of simulation.hpp over the domain decomposition of domain_sim.hpp: KDK leapfrog
+/// with impulse-RESPA gravity blocks (Tuckerman, Berne & Martyna 1992), the error-controlled
+/// cadence and the dashpot velocity predictor, step for step as Simulation::step on one rank.
+/// Exchanges, ghosts and gathering live in domain_exchange.cpp.
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "common/status.hpp"
+#include "ssdem/dt_rule.hpp"
+#include "ssdem/gravity_cadence.hpp"
+#include "ssdem/mpi/domain_sim.hpp"
+
+namespace ssdem::mpi {
+namespace {
+constexpr std::size_t kOmpMin = 2048;  // below this many own spheres a loop runs serially
+}
+
+void DomainSim::setup(const Spheres& all) {
+  if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
+  if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
+  if (cfg_.adaptive_gravity && (!(cfg_.gravity_tolerance > 0.0) || cfg_.gravity_max_every < 1))
+    throw common::InputError("gravity.tolerance must be > 0 and gravity.max_every >= 1");
+  if (!all.consistent()) throw common::InputError("spheres: array sizes differ");
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (!(all.m[i] > 0.0) || !(all.s[i] > 0.0))
+      throw common::InputError("sphere id " + std::to_string(all.id[i]) + ": mass and radius must be > 0");
+  if (!cfg_.bonds.empty() && comm_.size > 1)
+    throw common::InputError("bonds (bonds.*) are not distributed over MPI ranks yet: run a scene with bonds "
+                             "on one rank (mpirun -np 1) or with the serial ssdem-grav");
+  if (cfg_.multirate && comm_.size > 1)
+    throw common::InputError("time.multirate = true is not distributed over MPI ranks yet: run it on one rank "
+                             "(mpirun -np 1) or with the serial ssdem-grav, or set time.multirate = false");
+  double smax = 0;
+  for (double s : all.s) smax = std::max(smax, s);
+  if (cfg_.contacts) {
+    check_dt(cfg_.contact, all, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
+    skin_ = cfg_.skin > 0.0 ? cfg_.skin : 0.25 * smax;  // as Simulation::setup
+    reach_ = 2.0 * smax + skin_;
+    contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin_);
+  } else {
+    reach_ = -1.0;  // no ghosts
+  }
+  if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);
+  // replicated arrays for gravity (positions refreshed at each evaluation)
+  gsp_.id = all.id;
+  gsp_.x = all.x;
+  gsp_.m = all.m;
+  gsp_.s = all.s;
+  gsp_.v.assign(all.size(), Vec3::Zero());
+  gsp_.w.assign(all.size(), Vec3::Zero());
+  if (comm_.rank == 0) carried_ = all.carried;
+}
+
+DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance)
+    : comm_(comm), cfg_(std::move(cfg)), imbalance_(imbalance) {
+  setup(all);
+  SimState st;
+  st.sp = all;
+  st.sp.carried.clear();
+  const std::size_t n = all.size();
+  st.a.assign(n, Vec3::Zero());
+  st.alpha.assign(n, Vec3::Zero());
+  st.ag.assign(n, Vec3::Zero());
+  block_ = cfg_.adaptive_gravity ? 1 : cfg_.gravity_every;
+  distribute(st);
+  compute_forces(true);
+  check_state();
+}
+
+DomainSim::DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance)
+    : comm_(comm), cfg_(std::move(cfg)), imbalance_(imbalance) {
+  if (!all.bonds.empty() && comm_.size > 1)
+    throw common::InputError("restart: the checkpoint holds bonds, which are not distributed over MPI ranks "
+                             "yet: restart it on one rank");
+  setup(all.sp);
+  const std::size_t n = all.sp.size();
+  if (all.a.size() != n || all.alpha.size() != n || (cfg_.self_gravity && all.ag.size() != n))
+    throw common::InputError("restart state: acceleration arrays do not match the sphere count");
+  step_ = all.step;
+  time_ = all.time;
+  grav_step_ = all.gravity_step;
+  if (cfg_.adaptive_gravity) {
+    block_start_ = step_;
+    block_ = all.gravity_block > 0 ? all.gravity_block : 1;
+  } else {
+    block_ = cfg_.gravity_every;
+    block_start_ = step_ / block_ * block_;
+  }
+  has_prev_ = cfg_.extrapolated_predictor && all.a_prev.size() == n;
+  distribute(all);
+}
+
+void DomainSim::compute_gravity() {
+  const double t0 = omp_get_wtime();
+  struct GX {
+    std::uint64_t g;
+    double x[3];
+  };
+  std::vector<GX> mine(own_.size());
+  for (std::size_t k = 0; k < own_.size(); ++k) {
+    const std::uint32_t i = own_[k];
+    mine[k] = GX{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}};
+  }
+  const double b0 = comm_.bytes_sent;
+  const double c0 = omp_get_wtime();
+  const std::vector<GX> all = comm_.gather(mine);
+  stats_.wall_comm += omp_get_wtime() - c0;
+  stats_.bytes_gravity += comm_.bytes_sent - b0;
+  ++stats_.gravity_gathers;
+  for (const GX& p : all) gsp_.x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
+  if (tree_)
+    tree_->compute(gsp_, gacc_, nullptr, &gmine_);
+  else
+    direct_gravity(gsp_, cfg_.gravity.G, gacc_);
+  for (std::uint32_t i : own_) ag_[i] = gacc_[gidx_[i]];
+  grav_step_ = step_;
+  times_.gravity += omp_get_wtime() - t0;
+  ++times_.gravity_evals;
+}
+
+void DomainSim::compute_forces(bool initial) {
+  const double h = cfg_.dt, hh = 0.5 * h;
+  const std::size_t no = own_.size();
+  if (contacts_) {
+#pragma omp parallel for schedule(static) if (no >= kOmpMin)
+    for (std::size_t k = 0; k < no; ++k) {
+      const std::uint32_t i = own_[k];
+      if (initial) {
+        vpred_[i] = sp_.v[i];
+        wpred_[i] = sp_.w[i];
+        continue;
+      }
+      vpred_[i] = sp_.v[i] + hh * a_[i];
+      wpred_[i] = sp_.w[i] + hh * alpha_[i];
+      if (has_prev_) {
+        vpred_[i] += hh * (a_[i] - a_prev_[i]);
+        wpred_[i] += hh * (alpha_[i] - alpha_prev_[i]);
+      }
+    }
+    if (!initial && cfg_.extrapolated_predictor) {
+      for (std::uint32_t i : own_) {
+        a_prev_[i] = a_[i];
+        alpha_prev_[i] = alpha_[i];
+      }
+      has_prev_ = true;
+    }
+    halo_update();
+    const double t0 = omp_get_wtime();
+    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
+    const double t1 = omp_get_wtime();
+    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
+    times_.neighbours += t1 - t0;
+    times_.contacts += omp_get_wtime() - t1;
+  }
+  if (cfg_.self_gravity && initial) compute_gravity();
+  const Vec3 g = cfg_.uniform_g;
+#pragma omp parallel for schedule(static) if (no >= kOmpMin)
+  for (std::size_t k = 0; k < no; ++k) {
+    const std::uint32_t i = own_[k];
+    Vec3 a = g;
+    if (contacts_) {
+      a += F_[i] / sp_.m[i];
+      alpha_[i] = T_[i] / sp_.inertia(i);
+    }
+    a_[i] = a;
+  }
+}
+
+void DomainSim::step() {
+  const double h = cfg_.dt, hh = 0.5 * h;
+  const bool spin = contacts_ != nullptr;
+  const bool sg = cfg_.self_gravity;
+  const int k = block_;
+  const double hk = 0.5 * h * k;
+  const bool open_kick = sg && step_ == block_start_;
+  double t0 = omp_get_wtime();
+  double moved2 = 0;
+  const std::size_t no = own_.size();
+#pragma omp parallel for schedule(static) reduction(max : moved2) if (no >= kOmpMin)
+  for (std::size_t q = 0; q < no; ++q) {
+    const std::uint32_t i = own_[q];
+    if (open_kick) sp_.v[i] += hk * ag_[i];
+    sp_.v[i] += hh * a_[i];
+    if (spin) sp_.w[i] += hh * alpha_[i];
+    sp_.x[i] += h * sp_.v[i];
+    moved2 = std::max(moved2, (sp_.x[i] - xex_[i]).squaredNorm());
+  }
+  ++step_;
+  time_ = static_cast<double>(step_) * h;
+  times_.integrate += omp_get_wtime() - t0;
+  const bool close_kick = step_ == block_start_ + k;
+  // exchange: with contacts when a sphere moved more than skin/2 (domain_sim.hpp); without, at
+  // gravity evaluations (ownership then only balances the work)
+  const double c0 = omp_get_wtime();
+  const bool ex = contacts_ ? comm_.max(moved2) > 0.25 * skin_ * skin_ : close_kick;
+  stats_.wall_comm += omp_get_wtime() - c0;
+  if (ex) exchange();
+  compute_forces(false);
+  if (sg && close_kick) {
+    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    compute_gravity();
+  }
+  t0 = omp_get_wtime();
+  const std::size_t no2 = own_.size();  // the exchange may have changed the own set
+#pragma omp parallel for schedule(static) if (no2 >= kOmpMin)
+  for (std::size_t q = 0; q < no2; ++q) {
+    const std::uint32_t i = own_[q];
+    sp_.v[i] += hh * a_[i];
+    if (spin) sp_.w[i] += hh * alpha_[i];
+    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
+  }
+  times_.integrate += omp_get_wtime() - t0;
+  if (close_kick) close_gravity_block();
+  ++times_.steps;
+  ++stats_.steps;
+  check_state();
+}
+
+void DomainSim::close_gravity_block() {
+  const int k = block_;
+  block_start_ = step_;
+  int next = cfg_.gravity_every;
+  if (cfg_.adaptive_gravity) {
+    next = 1;
+    if (cfg_.self_gravity) {
+      const std::size_t n = gsp_.size();
+      // global sums: per-rank partial sums in global-index order, added in rank order
+      double g2l = 0;
+      for (std::uint32_t i : own_) g2l += ag_[i].squaredNorm();
+      double g2 = 0;
+      for (double v : comm_.gather(std::vector<double>{g2l})) g2 += v;
+      const double floor = 0.1 * std::sqrt(g2 / static_cast<double>(std::max<std::size_t>(n, 1)));
+      double d2l = 0, cml = 0;
+      for (std::uint32_t i : own_) {
+        const double d = (ag_[i] - ag_old_[i]).norm();
+        d2l += d * d;
+        cml = std::max(cml, d / std::max({ag_[i].norm(), floor, 1e-300}));
+      }
+      double d2 = 0, cmax = 0;
+      const std::vector<double> part = comm_.gather(std::vector<double>{d2l, cml});
+      for (std::size_t r = 0; r < part.size(); r += 2) {
+        d2 += part[r];
+        cmax = std::max(cmax, part[r + 1]);
+      }
+      next = next_gravity_block(k, g2, d2, cmax, cfg_, cadence_);
+    }
+  }
+  if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));
+  block_ = std::max(next, 1);
+}
+
+void DomainSim::check_state() {
+  std::uint64_t bad_id = 0;
+  bool bad = false;
+  for (std::uint32_t i : own_)
+    if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() || !sp_.w[i].allFinite() ||
+        !ag_[i].allFinite()) {
+      bad = true;
+      bad_id = sp_.id[i];
+      break;
+    }
+  double in[2] = {bad ? static_cast<double>(comm_.rank + 1) : 0.0, contacts_ ? cstats_.max_overlap_frac : 0.0};
+  double out[2];
+  MPI_Allreduce(in, out, 2, MPI_DOUBLE, MPI_MAX, comm_.c);
+  if (out[0] > 0) {
+    std::ostringstream os;
+    os << "non-finite state on rank " << static_cast<int>(out[0]) - 1 << " at step " << step_;
+    if (bad) os << " (sphere id " << bad_id << ")";
+    throw common::NumericalError(os.str());
+  }
+  if (contacts_ && out[1] > cfg_.max_overlap_frac) {
+    std::ostringstream os;
+    os << "overlap of " << out[1] << " x the smaller radius (limit contact.max_overlap_fraction = "
+       << cfg_.max_overlap_frac << ") at step " << step_ << ": k_n too soft or dt too large for this impact speed";
+    throw common::NumericalError(os.str());
+  }
+}
+
+double DomainSim::bytes_per_owned_sphere() const {
+  const double nl = static_cast<double>(sp_.size());
+  double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
+  if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
+  const double ng = static_cast<double>(gsp_.size());
+  b += ng * (Spheres::bytes_per_sphere() + 1 + 24);  // replicated gravity arrays, mask, accelerations
+  if (tree_) b += ng * tree_->bytes_per_sphere(gsp_.size());
+  return own_.empty() ? b : b / static_cast<double>(own_.size());
+}
+
+}  // namespace ssdem::mpi

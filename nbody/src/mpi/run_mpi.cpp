@@ -1,0 +1,251 @@
+/// @file run_mpi.cpp
+/// ssdem-grav driver on several MPI ranks (run_mpi.hpp).
+#include "ssdem/mpi/run_mpi.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <sstream>
+
+#include "common/atomic_file.hpp"
+#include "common/finite.hpp"
+#include "common/log.hpp"
+#include "common/run_dir.hpp"
+#include "common/run_identity.hpp"
+#include "common/series_csv.hpp"
+#include "common/status.hpp"
+#include "common/stop_signal.hpp"
+#include "ssdem/io.hpp"
+#include "ssdem/mpi/domain_sim.hpp"
+#include "ssdem/run.hpp"
+#include "ssdem/scene_setup.hpp"
+
+namespace ssdem::mpi {
+namespace {
+// Contact counts and the largest overlap (relative to the smaller radius) of the active records.
+void count_contacts(const SimState& st, const std::vector<Plane>& walls, Diagnostics& d) {
+  std::unordered_map<std::uint64_t, std::size_t> at;
+  for (std::size_t i = 0; i < st.sp.size(); ++i) at[st.sp.id[i]] = i;
+  for (const HistoryRecord& r : st.history) {
+    const std::size_t a = at.at(r.id_a);
+    double frac;
+    if (r.id_b >= kWallIdBase) {
+      const Plane& p = walls.at(r.id_b - kWallIdBase);
+      frac = (st.sp.s[a] - (st.sp.x[a] - p.point).dot(p.normal)) / st.sp.s[a];
+      ++d.wall_contacts;
+    } else {
+      const std::size_t b = at.at(r.id_b);
+      frac = (st.sp.s[a] + st.sp.s[b] - (st.sp.x[a] - st.sp.x[b]).norm()) / std::min(st.sp.s[a], st.sp.s[b]);
+      ++d.contacts;
+    }
+    d.max_overlap_frac = std::max(d.max_overlap_frac, frac);
+  }
+}
+
+// Rank 0 only runs `f`; every rank learns whether it threw, and the others then stop with exit 4.
+template <class F>
+void on_root(Comm& comm, F&& f) {
+  int ok = 1;
+  std::exception_ptr err;
+  if (comm.rank == 0) try {
+      f();
+    } catch (...) {
+      ok = 0;
+      err = std::current_exception();
+    }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, comm.c);
+  if (err) std::rethrow_exception(err);
+  if (!ok) throw common::IoError("rank 0 failed (its message above); stopping");
+}
+}  // namespace
+
+int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
+  Comm comm;
+  if (comm.rank != 0) spdlog::set_level(spdlog::level::err);
+  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file", "initial.ss"});
+  const std::string out_dir = sc.string("output.directory");
+  std::unique_ptr<common::RunDirectory> rd;
+  on_root(comm, [&] {
+    rd = std::make_unique<common::RunDirectory>(
+        out_dir, "ssdem-grav", detail::is_output,
+        restart.empty() ? std::string() : common::RunDirectory::staging_of(out_dir, restart));
+  });
+  const std::string dir = rd ? rd->staging() : std::string();
+
+  std::unique_ptr<DomainSim> sim;
+  std::string info;
+  if (restart.empty()) {
+    Spheres sp = initial_spheres(sc);
+    const SimConfig cfg = sim_config(sc, sp, &info);
+    sim = std::make_unique<DomainSim>(comm, sp, cfg);
+  } else {
+    double dt0 = 0, kn0 = 0;
+    int every0 = 0;
+    std::string ck_ident;
+    SimState st = read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
+    if (!ck_ident.empty()) {
+      const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
+      const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
+      if (!diff.empty())
+        throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
+                                 ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
+    }
+    on_root(comm, [&] {
+      if (!common::RunDirectory::staging_of(out_dir, restart).empty()) return;
+      rd->carry("series.csv");  // continuing a published run: its series and snapshots up to the checkpoint
+      for (const auto& e : std::filesystem::directory_iterator(out_dir)) {
+        const std::string n = e.path().filename().string();
+        const std::int64_t s = detail::snap_step(n);
+        if (s >= 0 && s <= st.step) rd->carry(n);
+      }
+    });
+    SimConfig cfg = sim_config(sc, st.sp, &info);
+    if (cfg.contacts && kn0 > 0.0) cfg.contact.kn = kn0;  // the checkpoint's values: the continuation is exact
+    cfg.dt = dt0;
+    if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
+    st.gravity_block = every0;
+    sim = std::make_unique<DomainSim>(comm, st, cfg);
+    info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
+  }
+  const SimConfig& cfg = sim->config();
+  std::ostringstream ri;
+  ri << info << "spheres: " << sim->global_count() << "\nMPI ranks: " << comm.size << "\ndt = " << cfg.dt
+     << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
+     << "\ncontacts: " << (cfg.contacts ? "on" : "off") << "\nk_n = " << cfg.contact.kn
+     << " N/m, parts mask = " << cfg.contact.parts << "\n";
+  const std::string run_info = ri.str();
+  on_root(comm, [&] { common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info); });
+  spdlog::info("ssdem-grav on {} MPI ranks: {} spheres, dt = {} s", comm.size, sim->global_count(), cfg.dt);
+
+  const auto [t_end, snap_dt, ckpt_wall, series_every, ckpt_every, n_end, times, series_path, ckpt_path] =
+      detail::output_plan(sc, cfg, dir);
+  sim->set_end_step(n_end);
+
+  std::unique_ptr<common::SeriesFile> series;
+  on_root(comm, [&] {
+    series = std::make_unique<common::SeriesFile>(series_path, detail::series_format(),
+                                                  restart.empty() ? std::nullopt : std::optional(sim->step_count()));
+  });
+  common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
+  double E0 = NAN;
+  // one gathered state per output step: series row and/or snapshot
+  auto output = [&](bool row, bool snap) {
+    if (!row && !snap) return;
+    const SimState st = sim->gather_state();
+    on_root(comm, [&] {
+      if (row) {
+        Diagnostics d = Simulation(st, cfg).diagnostics();
+        count_contacts(st, cfg.walls, d);
+        const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
+        common::require_finite(e, 6, series_path, "energies at step " + std::to_string(st.step));
+        if (std::isnan(E0)) E0 = d.total();
+        common::SeriesRow r = series->row();
+        r.integer(st.step).num(st.time).num(d.kinetic).num(d.rotational);
+        r.num(d.potential_self).num(d.potential_uniform).num(d.elastic).num(d.total());
+        r.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
+        r.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
+        r.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(progress.elapsed());
+        series->write(r);
+        progress.update(st.step, st.time, cfg.dt, E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0);
+      }
+      if (snap) write_snapshot(detail::snap_name(dir, st.step), st.sp, st.time, st.step, prov);
+    });
+  };
+  auto checkpoint = [&](const std::string& path) {
+    const SimState st = sim->gather_state();
+    on_root(comm, [&] {
+      write_checkpoint(path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
+      spdlog::info("checkpoint at step {} -> {}", st.step, path);
+    });
+  };
+  double next_snap = snap_dt > 0 ? (std::floor(sim->time() / snap_dt + 1e-9) + 1) * snap_dt : INFINITY;
+  std::size_t next_time = 0;
+  while (next_time < times.size() && times[next_time] < sim->time() - 1e-12) ++next_time;
+  const common::StopSignals stop;
+  if (restart.empty()) output(true, true);
+  double last_ckpt_wall = progress.elapsed();
+  std::int64_t next_row = (sim->step_count() / series_every + 1) * series_every;
+  std::int64_t next_ckpt = ckpt_every > 0 ? (sim->step_count() / ckpt_every + 1) * ckpt_every : 0;
+  try {
+    while (sim->step_count() < n_end) {
+      sim->step();
+      const std::int64_t s = sim->step_count();
+      if (!sim->at_gravity_boundary()) continue;
+      const bool row = s >= next_row || s >= n_end;
+      if (row) next_row = (s / series_every + 1) * series_every;
+      bool snap = s >= n_end;
+      if (sim->time() >= next_snap - 1e-9 * cfg.dt) {
+        snap = true;
+        while (next_snap <= sim->time() + 1e-9 * cfg.dt) next_snap += snap_dt;
+      }
+      while (next_time < times.size() && sim->time() >= times[next_time] - 1e-9 * cfg.dt) {
+        snap = true;
+        ++next_time;
+      }
+      output(row, snap);
+      // a signal on any rank, or rank 0's wall-clock checkpoint, decided together
+      int flags[2] = {stop.pending(), comm.rank == 0 && ckpt_wall > 0 && progress.elapsed() - last_ckpt_wall > ckpt_wall};
+      MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, comm.c);
+      if (flags[0] != 0) {
+        checkpoint(ckpt_path);
+        on_root(comm, [&] { series->commit(); });
+        spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", flags[0], s, ckpt_path);
+        return 128 + flags[0];
+      }
+      if ((ckpt_every > 0 && s >= next_ckpt) || flags[1]) {
+        checkpoint(ckpt_path);
+        last_ckpt_wall = progress.elapsed();
+        if (ckpt_every > 0) next_ckpt = (s / ckpt_every + 1) * ckpt_every;
+      }
+    }
+  } catch (common::NumericalError& e) {
+    // check_state is collective: every rank is here at the same step
+    const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
+    const SimState st = sim->gather_state();
+    on_root(comm, [&] {
+      write_snapshot(failed, st.sp, st.time, st.step, prov);
+      spdlog::error("{}; failing state saved to {}", e.what(), failed);
+      series->commit();
+    });
+    e.set_saved_state(failed);
+    throw;
+  }
+  checkpoint(ckpt_path);
+  const DomainStats& ds = sim->stats();
+  const PhaseTimes& t = sim->times();
+  std::ostringstream os;
+  os << "rank " << comm.rank << ": " << sim->owned() << " own spheres, " << sim->ghosts() << " ghosts; "
+     << ds.exchanges << " exchanges, " << ds.rebalances << " decompositions, " << t.gravity_evals
+     << " gravity evaluations; sent per step: halo " << ds.bytes_halo / std::max<double>(ds.steps, 1)
+     << " B, exchanges " << ds.bytes_exchange / std::max<double>(ds.steps, 1) << " B, gravity "
+     << ds.bytes_gravity / std::max<double>(ds.steps, 1) << " B; communication " << ds.wall_comm
+     << " s; bytes per own sphere " << sim->bytes_per_owned_sphere();
+  std::string lines;
+  {
+    std::vector<int> counts;
+    const std::string s = os.str();
+    const std::vector<char> all = comm.gather(std::vector<char>(s.begin(), s.end()), 0, &counts);
+    std::size_t off = 0;
+    for (int c : counts) {
+      lines += std::string(all.begin() + off, all.begin() + off + c) + "\n";
+      off += c;
+    }
+  }
+  on_root(comm, [&] {
+    series->commit();
+    common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + lines);
+    rd->publish();
+    spdlog::info("MPI decomposition:\n{}", lines);
+    spdlog::info("run complete: outputs published in {}", out_dir);
+  });
+  progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
+  spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, integrate "
+               "{:.3f}, communication {:.3f}",
+               t.steps, t.gravity, t.gravity_evals, t.neighbours, t.contacts, t.integrate, ds.wall_comm);
+  return 0;
+}
+
+}  // namespace ssdem::mpi
