@@ -63,7 +63,9 @@ TEST(LabScenes, BrazilianDiskScenePlatensDriveAndSpecimenRule) {
 TEST(LabScenes, BrazilianDiskDoesNotDependOnThePlatenMaterial) {
   // 0.4 mm disk, nominal 2v/D = 2000 1/s so that it is loaded within the 60 steps: with the
   // platens at 7850 kg/m^3 (steel) and at 1000 kg/m^3 with a tenth of the moduli, every disk
-  // particle's stress and position are bit-identical, and the platen loads agree to round-off (the platen inertia M dv_T, subtracted, differs).
+  // particle's stress and position agree to 1e-6 (the platens reach the disk only through driven
+  // nodes and through nodes they touch with per-axis weight < 1e-9, drive.cpp; the old
+  // density-capped platens changed the strength by 8 %), and so do the platen loads.
   const std::string path = std::string(DAMAGE_SCENES_DIR) + "/brazilian.toml";
   auto run = [&](const std::string& rho, const std::string& K, const std::string& G) {
     mpmfrag::Solver s = solver_of(mpmfrag::build_setup(common::Scene::load(
@@ -71,23 +73,27 @@ TEST(LabScenes, BrazilianDiskDoesNotDependOnThePlatenMaterial) {
         {"grid.cell_size=0.0004", "body[1].drive.velocity=[0,-10,0]", "body[2].drive.velocity=[0,10,0]",
          "body[1].drive.ramp_time=1e-6", "body[2].drive.ramp_time=1e-6", "material[1].density=" + rho,
          "material[1].bulk_modulus=" + K, "material[1].shear_modulus=" + G})));
-    for (int i = 0; i < 60; ++i) s.step(s.stable_dt());
     return s;
   };
-  const mpmfrag::Solver a = run("7850.0", "160e9", "80e9"), b = run("1000.0", "16e9", "8e9");
+  mpmfrag::Solver a = run("7850.0", "160e9", "80e9"), b = run("1000.0", "16e9", "8e9");
+  for (int i = 0; i < 60; ++i) {
+    const double dt = a.stable_dt();
+    ASSERT_NEAR(dt, b.stable_dt(), 1e-8 * dt);
+    a.step(dt);
+    b.step(dt);
+  }
   const mpmfrag::ParticleSet &A = a.particles(), &B = b.particles();
-  ASSERT_EQ(a.time(), b.time());
   const mpmfrag::MaterialSlot& disk = a.materials()[0];
   double smax = 0;
-  for (std::size_t p = disk.begin; p < disk.end; ++p) {
-    for (int k = 0; k < 6; ++k) ASSERT_EQ(A.stress[6 * p + k], B.stress[6 * p + k]);
-    for (int k = 0; k < 3; ++k) ASSERT_EQ(A.x[3 * p + k], B.x[3 * p + k]);
-    smax = std::max(smax, -A.stress[6 * p + 1]);
-  }
+  for (std::size_t p = disk.begin; p < disk.end; ++p) smax = std::max(smax, -A.stress[6 * p + 1]);
   EXPECT_GT(smax, 1e7);  // the disk is loaded (> 10 MPa compression under the platens)
+  for (std::size_t p = disk.begin; p < disk.end; ++p) {
+    for (int k = 0; k < 6; ++k) ASSERT_NEAR(A.stress[6 * p + k], B.stress[6 * p + k], 1e-6 * smax);
+    for (int k = 0; k < 3; ++k) ASSERT_NEAR(A.x[3 * p + k], B.x[3 * p + k], 1e-15);
+  }
   for (int k = 0; k < 2; ++k) {
     const Eigen::Vector3d Ja = a.drive_loads()[k].impulse, Jb = b.drive_loads()[k].impulse;
-    EXPECT_LT((Ja - Jb).norm(), 1e-9 * Ja.norm());  // round-off of the platen inertia term
+    EXPECT_LT((Ja - Jb).norm(), 1e-6 * Ja.norm());
     EXPECT_GT(std::fabs(Ja[1]), 0.0);
   }
   // the two platens push the disk from opposite sides with loads equal in size to a few per cent

@@ -137,8 +137,11 @@ TEST(BodyDrive, PlatenMovesExactlyAndItsImpulseIsTheMomentumOfTheRest) {
     EXPECT_LT(L.impulse[2], -0.3 * M_block * 2.3);
     EXPECT_GT(L.impulse[0], 0.3 * M_block * 0.4);
     EXPECT_LT(max_err, 1e-10 * L.impulse.norm());      // J = momentum of the rest, every step
-    EXPECT_LT(max_v_err, 1e-12 * kV.norm());           // platen at exactly v_T(t)
-    EXPECT_LT(max_x_err, 1e-12 * disp.norm());         // and displaced by exactly sum dt v_T
+    // platen at v_T(t) and displaced by sum dt v_T, up to the nodes its particles reach with a
+    // per-axis weight below kMinWeight = 1e-9 (drive.cpp), which are not driven: measured
+    // 3.2e-9 |v_T| and 2e-11 of the displacement (a drive that is off errs by O(1))
+    EXPECT_LT(max_v_err, 1e-8 * kV.norm());
+    EXPECT_LT(max_x_err, 1e-9 * disp.norm());
     EXPECT_LT(max_f_err, 1e-10 * L.impulse.norm());    // force = the step's impulse / dt
     // displacement against the continuous drive v (t - t_ramp / 2): first order in dt in the ramp
     EXPECT_NEAR(disp[2], kV[2] * (kEnd - kRamp / 2), 0.1 * std::fabs(kV[2]) * kEnd);
@@ -148,28 +151,40 @@ TEST(BodyDrive, PlatenMovesExactlyAndItsImpulseIsTheMomentumOfTheRest) {
 TEST(BodyDrive, BlockDoesNotDependOnThePlatenMaterial) {
   Solver a = make_solver(scene("musl", 7850.0, 160e9));
   Solver b = make_solver(scene("musl", 1900.0, 9e9));  // lighter, softer platen
+  // The platen reaches the block only through its driven nodes, and through the nodes it touches
+  // with a per-axis weight below kMinWeight = 1e-9 (drive.cpp), which carry a trace of its mass:
+  // the block agrees to ~1e-9 relative, not bit for bit (the platen's wave speed is not in the
+  // CFL step; with the old density-capped drive the difference was of order 1).
   while (a.time() < kEnd * (1 - 1e-12)) {
     const double dt = std::min(a.stable_dt(), kEnd - a.time());
-    ASSERT_EQ(dt, std::min(b.stable_dt(), kEnd - b.time()));  // platen wave speed not in the CFL step
+    ASSERT_NEAR(dt, std::min(b.stable_dt(), kEnd - b.time()), 1e-8 * dt);
     a.step(dt);
     b.step(dt);
   }
   const ParticleSet &A = a.particles(), &B = b.particles();
   ASSERT_EQ(A.size(), B.size());
   std::size_t block = 0;
+  double vmax = 0, smax = 0;
+  for (std::size_t p = 0; p < A.size(); ++p) {
+    if (a.drives()[0].holds(A.id[p])) continue;
+    for (int k = 0; k < 3; ++k) vmax = std::max(vmax, std::fabs(A.v[3 * p + k]));
+    for (int k = 0; k < 6; ++k) smax = std::max(smax, std::fabs(A.stress[6 * p + k]));
+  }
+  ASSERT_GT(vmax, 0.1);
+  ASSERT_GT(smax, 1e6);
   for (std::size_t p = 0; p < A.size(); ++p) {
     ASSERT_EQ(A.id[p], B.id[p]);
     if (a.drives()[0].holds(A.id[p])) continue;
     ++block;
     for (int k = 0; k < 3; ++k) {
-      ASSERT_EQ(A.x[3 * p + k], B.x[3 * p + k]);
-      ASSERT_EQ(A.v[3 * p + k], B.v[3 * p + k]);
+      ASSERT_NEAR(A.x[3 * p + k], B.x[3 * p + k], 1e-15);
+      ASSERT_NEAR(A.v[3 * p + k], B.v[3 * p + k], 1e-6 * vmax);
     }
-    for (int k = 0; k < 6; ++k) ASSERT_EQ(A.stress[6 * p + k], B.stress[6 * p + k]);
+    for (int k = 0; k < 6; ++k) ASSERT_NEAR(A.stress[6 * p + k], B.stress[6 * p + k], 1e-6 * smax);
   }
   EXPECT_EQ(block, 4096u);
   const Eigen::Vector3d Ja = a.drive_loads()[0].impulse, Jb = b.drive_loads()[0].impulse;
-  EXPECT_LT((Ja - Jb).norm(), 1e-12 * Ja.norm());
+  EXPECT_LT((Ja - Jb).norm(), 1e-6 * Ja.norm());
 }
 
 TEST(BodyDrive, SeriesCarriesTheImpulse) {
