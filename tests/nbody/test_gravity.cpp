@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "kepler_pair.hpp"
 #include "common/rng.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/gravity.hpp"
@@ -205,17 +206,9 @@ TEST(GravityMTS, RespaWithoutFastForcesEqualsKdkAtTheOuterStep) {
   // Impulse RESPA with gravity every k steps and no contact forces is exactly KDK with step k h
   // at block boundaries (up to round-off): a sharp check of the outer kicks.
   auto run = [](double steps_per_orbit, int k) {
-    const double e = 0.5, ra = 1 + e, va = std::sqrt((1 - e) / (1 + e));
-    Spheres sp;
-    sp.push(0, Vec3(-0.5 * ra, 0, 0), Vec3(0, -0.5 * va, 0), Vec3::Zero(), 0.5, 1e-6);
-    sp.push(1, Vec3(0.5 * ra, 0, 0), Vec3(0, 0.5 * va, 0), Vec3::Zero(), 0.5, 1e-6);
-    SimConfig c;
-    c.self_gravity = true;
-    c.direct_gravity = true;
-    c.gravity.G = 1.0;
+    SimConfig c = kepler_config(steps_per_orbit);
     c.gravity_every = k;
-    c.dt = 2 * M_PI / steps_per_orbit;
-    Simulation sim(sp, c);
+    Simulation sim(kepler_pair(0.5), c);
     sim.run(static_cast<long>(steps_per_orbit) * 3);
     return sim.spheres();
   };

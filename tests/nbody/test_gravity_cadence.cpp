@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "kepler_pair.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/simulation.hpp"
@@ -17,17 +18,9 @@ using namespace ssdem;
 namespace {
 // G = M = 1 two-body orbit, a = 1, eccentricity e, started at apocentre, period 2 pi.
 Simulation kepler(double e, double steps_per_orbit, bool adaptive) {
-  const double ra = 1 + e, va = std::sqrt((1 - e) / (1 + e));
-  Spheres sp;
-  sp.push(0, Vec3(-0.5 * ra, 0, 0), Vec3(0, -0.5 * va, 0), Vec3::Zero(), 0.5, 1e-6);
-  sp.push(1, Vec3(0.5 * ra, 0, 0), Vec3(0, 0.5 * va, 0), Vec3::Zero(), 0.5, 1e-6);
-  SimConfig c;
-  c.self_gravity = true;
-  c.direct_gravity = true;
-  c.gravity.G = 1.0;
+  SimConfig c = kepler_config(steps_per_orbit);
   c.adaptive_gravity = adaptive;
-  c.dt = 2 * M_PI / steps_per_orbit;
-  return Simulation(sp, c);
+  return Simulation(kepler_pair(e), c);
 }
 }  // namespace
 

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "../kepler_pair.hpp"
 #include "common/rng.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
@@ -169,15 +170,8 @@ TEST(MpiDomain, TwoBodyReaccumulationContactsAcrossDomainsEqualOneRank) {
 
 TEST(MpiDomain, OrbitBodiesChangeRanksAndARankMayBeEmpty) {
   // G = M = 1 Kepler orbit, e = 0.5, two bodies without contacts; gravity every step
-  const double e = 0.5, ra = 1 + e, va = std::sqrt((1 - e) / (1 + e));
-  Spheres sp;
-  sp.push(7, Vec3(-0.5 * ra, 0, 0), Vec3(0, -0.5 * va, 0), Vec3::Zero(), 0.5, 1e-3);
-  sp.push(9, Vec3(0.5 * ra, 0, 0), Vec3(0, 0.5 * va, 0), Vec3::Zero(), 0.5, 1e-3);
-  SimConfig cfg;
-  cfg.self_gravity = true;
-  cfg.direct_gravity = true;
-  cfg.gravity.G = 1.0;
-  cfg.dt = 2 * M_PI / 997;
+  const Spheres sp = kepler_pair(0.5, 1e-3, 7, 9);
+  const SimConfig cfg = kepler_config(997);
   int changes = 0, last = -1, empty = 0;
   compare(sp, cfg, 997, "Kepler orbit e = 0.5, one period", [&](const mpi::DomainSim& d) {
     const int o = d.owner_of_id(7);
