@@ -135,6 +135,12 @@ bool Simulation::lower_level(std::uint32_t i, int target, int tz, std::vector<st
 }
 
 // Near pairs: both on min(l_i, l_j, l_c) (walls: l_i <= l_c(wall)), to the fixed point.
+// The rule is monotone (levels only drop; sphere i's bound f_i(min_j min(l_j, l_c(i, j))), with
+// f_i(t) = t if i is synchronised, else min(t, tz)), so every order of applying it that stops at
+// a fixed point stops at the same one: the largest fixed point below the starting levels. First a
+// parallel Jacobi sweep over the spheres (each reads its partners' levels, writes its own bound to
+// lnew_: O(pairs / threads)); then the serial worklist, seeded only with the spheres that dropped
+// (a pair with no dropped member satisfied the rule before the sweep and still does).
 void Simulation::equalise_levels(int tz) {
   if (!contacts_) return;
   const auto& pi = contacts_->pair_i();
@@ -152,10 +158,26 @@ void Simulation::equalise_levels(int tz) {
     lower_level(i, t, tz, work_);
     lower_level(j, t, tz, work_);
   };
-  for (std::size_t p = 0; p < pi.size(); ++p) enforce(pi[p], pj[p]);
-  if (walls)
-    for (std::uint32_t i = 0; i < sp_.size(); ++i)
-      if (level_[i] > 0) lower_level(i, wall_level(i), tz, work_);
+  const std::size_t n = sp_.size();
+  lnew_.resize(n);
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+  for (std::size_t k = 0; k < n; ++k) {
+    const auto i = static_cast<std::uint32_t>(k);
+    int t = level_[i];
+    for (std::uint32_t p = ri[i]; p < ri[i + 1] && t > 0; ++p) {
+      const int m = std::min<int>(level_[pj[p]], pair_level(i, pj[p]));
+      if (m < t && near_pair(i, pj[p])) t = m;
+    }
+    for (std::uint32_t q = rj[i]; q < rj[i + 1] && t > 0; ++q) {
+      const std::uint32_t j = pi[jp[q]];
+      const int m = std::min<int>(level_[j], pair_level(j, i));
+      if (m < t && near_pair(j, i)) t = m;
+    }
+    if (walls && t > 0) t = std::min(t, wall_level(i));
+    lnew_[k] = static_cast<std::uint8_t>(t);
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    if (lnew_[i] < level_[i]) lower_level(i, lnew_[i], tz, work_);
   while (!work_.empty()) {
     const std::uint32_t k = work_.back();
     work_.pop_back();

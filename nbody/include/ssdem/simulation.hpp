@@ -194,7 +194,7 @@ class Simulation {
   void multirate_forces();
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
-  std::vector<std::uint8_t> level_, sync_, promoted_;
+  std::vector<std::uint8_t> level_, sync_, promoted_, lnew_;
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
   std::vector<std::uint32_t> active_, work_;
