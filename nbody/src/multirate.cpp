@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 
 #include "common/status.hpp"
@@ -29,7 +30,12 @@ int PairClock::level(double mu, double R) const {
   const double tc = lin_ > 0.0 ? lin_ * std::sqrt(mu) : p_.contact_time(mu, R);
   const double r = tc / unit_;
   if (!(r >= 2.0)) return 0;  // also NaN
-  return std::min(std::ilogb(r), lmax_);
+  if (!(r < 0x1p30)) return std::min(std::ilogb(r), lmax_);
+  // ilogb of a normal double in [2, 2^30): its biased exponent field (no libm call: this runs for
+  // every near pair at every base step)
+  std::uint64_t b;
+  std::memcpy(&b, &r, sizeof b);
+  return std::min(static_cast<int>((b >> 52) & 0x7ff) - 1023, lmax_);
 }
 
 std::string LevelStats::histogram_text() const {
@@ -231,7 +237,10 @@ void Simulation::multirate_forces() {
     const double tau = subset_.hsphere[r];
     if (r == 0) tau0 = tau;
     uniform = uniform && tau == tau0;
-    lstats_.sphere_time[std::min(std::max(std::ilogb(tau / h), 0), kMaxLevel)] += tau;
+    // level of the step: floor(log2(tau / h)) of the integer step count (tau = k h exactly for
+    // k a power of two, so this is ilogb(tau / h))
+    const auto k = static_cast<std::uint64_t>(step_ - topen_[active_[r]]);
+    lstats_.sphere_time[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += tau;
   }
   lstats_.evaluations += static_cast<std::int64_t>(na);
   if (contacts_) {
@@ -241,25 +250,44 @@ void Simulation::multirate_forces() {
       // every listed pair with an active member: pairs in contact have both members active (near
       // pairs share a level); a pair with one active member is evaluated too, so that a contact
       // flag left from its last evaluation is reset, never gathered stale (it is not near: no force)
-      subset_.pairs.clear();
-      subset_.hpair.clear();
       const auto& pi = contacts_->pair_i();
       const auto& pj = contacts_->pair_j();
       const auto& ri = contacts_->row_i();
       const auto& rj = contacts_->row_j();
       const auto& jp = contacts_->jpair();
-      auto add = [&](std::uint32_t p) {
+      // (in parallel: per active sphere its count, an exclusive prefix sum, then each sphere
+      // fills its own slots, in the order of the serial loop over active spheres)
+      auto hpair = [&](std::uint32_t p) {
         const std::uint32_t i = pi[p], j = pj[p];
         const std::int64_t ti = sync_[i] ? step_ - topen_[i] : INT64_MAX;
         const std::int64_t tj = sync_[j] ? step_ - topen_[j] : INT64_MAX;
-        subset_.pairs.push_back(p);
-        subset_.hpair.push_back(static_cast<double>(std::min(ti, tj)) * h);
+        return static_cast<double>(std::min(ti, tj)) * h;
       };
+      subset_off_.resize(na + 1);
+      subset_off_[0] = 0;
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
       for (std::size_t r = 0; r < na; ++r) {
         const std::uint32_t k = active_[r];
-        for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) add(p);
+        std::size_t c = ri[k + 1] - ri[k];
+        for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) c += sync_[pi[jp[q]]] ? 0 : 1;
+        subset_off_[r + 1] = c;
+      }
+      for (std::size_t r = 0; r < na; ++r) subset_off_[r + 1] += subset_off_[r];
+      subset_.pairs.resize(subset_off_[na]);
+      subset_.hpair.resize(subset_off_[na]);
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
+      for (std::size_t r = 0; r < na; ++r) {
+        const std::uint32_t k = active_[r];
+        std::size_t o = subset_off_[r];
+        for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p, ++o) {
+          subset_.pairs[o] = p;
+          subset_.hpair[o] = hpair(p);
+        }
         for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
-          if (!sync_[pi[jp[q]]]) add(jp[q]);  // else added from its i member
+          if (!sync_[pi[jp[q]]]) {  // else added from its i member
+            subset_.pairs[o] = jp[q];
+            subset_.hpair[o++] = hpair(jp[q]);
+          }
       }
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_);
     }

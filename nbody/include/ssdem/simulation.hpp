@@ -198,6 +198,7 @@ class Simulation {
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
   std::vector<std::uint32_t> active_, work_;
+  std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
   ContactSystem::Subset subset_;
   PairClock clock_;
   LevelStats lstats_;
