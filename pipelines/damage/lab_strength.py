@@ -22,7 +22,7 @@ Platen load (the quantity a testing machine measures): from the series CSV <pref
   impulse on the rest of the system (body<b>_J{y|z}_Ns, mpm/include/mpm/body_drive.hpp), mean
   over the driven platens, x2 for the mirrored half thickness of the disk; sigma_platen =
   2 F_platen / (pi D t) (Brazilian) or F_platen / (pi D^2 / 4) (compression), peak over the run.
-Prints one CSV row (COLUMNS without wall_s, which run_scene.sh appends) and writes
+Prints one CSV row (COLUMNS without wall_s and cpu_s (user + system), which run_scene.sh appends) and writes
 <run directory>/strength_history.csv; `--header` prints the column names.
 """
 import glob
@@ -36,7 +36,7 @@ import numpy as np  # noqa: E402
 from h5io import h5py, provenance  # noqa: E402
 
 COLUMNS = ["label", "cell_m", "courant", "seed", "sampling", "nominal_rate", "effective_rate", "centre_rate",
-           "peak_F_N", "sigma_t_Pa", "t_peak_s", "snapshots", "platen_F_N", "sigma_platen_Pa", "wall_s"]
+           "peak_F_N", "sigma_t_Pa", "t_peak_s", "snapshots", "platen_F_N", "sigma_platen_Pa", "wall_s", "cpu_s"]
 
 
 def platen_load(run, scene, axis, mirror):

@@ -10,7 +10,7 @@ run_scene.sh (mpm-frag scenes): columns nominal_rate, effective_rate, sigma_t_Pa
 seed, sampling, wall_s and, where present, centre_rate and courant. Writes <outdir>/<name>.md
 (table: sampling, h, Courant, nominal 2v/D, effective (d sigma_t/dt)/E, centre (d sigma_xx/dt)/E,
 strength mean, seed spread (sample standard deviation and min..max), the strength from the platen
-load (scenes: sigma_platen_Pa of lab_strength.py), seeds, wall time) and
+load (scenes: sigma_platen_Pa of lab_strength.py), seeds, wall and CPU time) and
 <name>.png (strength against the effective rate with the seed spread as error bars).
 """
 import os
@@ -51,7 +51,7 @@ def main():
     lines = ["# " + name, ""]
     lines += mdtable.header(["sampling", "h (mm)", "Courant", "nominal 2v/D (1/s)", "effective (1/s)",
                              "centre (1/s)", "strength (MPa)", "seed sd (MPa)", "min..max (MPa)",
-                             "platen-load strength (MPa)", "seeds", "wall (s)"])
+                             "platen-load strength (MPa)", "seeds", "wall (s)", "CPU (s)"])
     series = defaultdict(list)
     for key in sorted(groups):
         rs = groups[key]
@@ -59,6 +59,7 @@ def main():
         e = np.array([float(r["effective_rate"]) for r in rs])
         c = np.array([float(r.get("centre_rate") or "nan") for r in rs])
         w = np.array([float(r["wall_s"]) for r in rs])
+        cpu = np.array([float(r.get("cpu_s") or "nan") for r in rs])
         sp = np.array([float(r.get("sigma_platen_Pa") or "nan") for r in rs]) / 1e6
         sd = s.std(ddof=1) if len(s) > 1 else float("nan")
         lines.append(mdtable.row([key[0], "%g" % (key[1] * 1e3), "%g" % key[2], "%g" % key[3],
@@ -66,7 +67,7 @@ def main():
                                   "%.1f" % s.mean(), "%.1f" % sd if len(s) > 1 else "-",
                                   "%.1f..%.1f" % (s.min(), s.max()),
                                   "%.1f" % np.nanmean(sp) if np.isfinite(sp).any() else "-", len(s),
-                                  "%.0f" % w.mean()]))
+                                  "%.0f" % w.mean(), "%.0f" % np.nanmean(cpu) if np.isfinite(cpu).any() else "-"]))
         series[key[:3]].append((e.mean(), s.mean(), sd if len(s) > 1 else 0.0))
     lines += ["", "Log-log fit of the mean strength against the effective rate, and the strength "
               "interpolated (log-log) at %g 1/s effective:" % ref, ""]

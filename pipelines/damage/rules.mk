@@ -52,7 +52,9 @@ damage-compression: ## uniaxial compression cylinder scene (mpm-frag): compressi
 
 # Resolution / time-step study at one nominal rate with the scene: h = 0.4, 0.2, 0.1 mm at
 # Courant 0.3 and 0.15 (0.1 mm at 0.3 only unless DAMAGE_BZ_CONV_FINE_C15 = 1), seeds as spread;
-# strength and wall time in convergence.md. The 0.1 mm runs take ~10 min each on 2 cores.
+# strength, wall and CPU time in convergence.md; damage_field_finest.png: crack onset, peak and
+# post-peak damage of the first seed at the last (finest) cell size. The 0.1 mm runs take ~5 min
+# each on 2 quiet cores (~500 CPU s).
 # Nominal 200 1/s: ~100 1/s effective with the exact platen drive.
 DAMAGE_BZ_CONV_RATE ?= 200
 DAMAGE_BZ_CONV_SEEDS ?= 1 2 3 4 5
@@ -66,6 +68,9 @@ damage-brazilian-convergence: ## Brazilian scene strength vs resolution / Couran
 	    $(DAMAGE_DIR)/run_scene.sh $(MPM_FRAG) $(RUNS)/damage-brazilian-convergence $$h $(DAMAGE_BZ_CONV_RATE) || exit $$?; fi; \
 	done; done
 	$(PY) $(DAMAGE_DIR)/plot_study.py $(RUNS)/damage-brazilian-convergence $(RUNS)/damage-brazilian-convergence/scene_summary.csv --name convergence
+	$(PY) $(DAMAGE_DIR)/plot_damage_field.py \
+	  $(RUNS)/damage-brazilian-convergence/scale_aware_h$(lastword $(DAMAGE_BZ_CONV_CELLS))_r$(DAMAGE_BZ_CONV_RATE)_s$(firstword $(DAMAGE_BZ_CONV_SEEDS)) \
+	  $(RUNS)/damage-brazilian-convergence/damage_field_finest.png
 
 # Flaw sampling (test driver): scale-aware (default), per-particle Poisson draws (El Mir) and the
 # expected bin densities (flaw_sampling = "expected"), at each cell size of DAMAGE_BZ_SAMPLING_CELLS (add 1e-4 for the

@@ -5,7 +5,7 @@
 # Environment: SAMPLING (flaw_sampling, default scale_aware), SEED (run.seed, default 1),
 # SCENE (default pipelines/damage/brazilian.toml), EXTRA (more --set options), TAG (run-name suffix).
 # Each rate runs into <outdir>/<sampling>_h<cell>_r<rate>_s<seed>/ and appends a row to
-# <outdir>/scene_summary.csv; time.end = 4 us ramp + 4e-3 / rate (Brazilian) or 1.5e-2 / rate
+# <outdir>/scene_summary.csv (with wall and CPU = user + system seconds); time.end = 4 us ramp + 4e-3 / rate (Brazilian) or 1.5e-2 / rate
 # (compression), past the peak; 120 snapshots. Platen speed v = rate x 5 mm (2v/D for the 10 mm
 # disk, v/(L/2) for the 10 mm cylinder).
 set -euo pipefail
@@ -25,10 +25,11 @@ for r in "$@"; do
   fi
   snap=$(awk "BEGIN{printf \"%.6g\", $tend/120}")
   dir=$out/${smp}_h${cell}_r${r}_s${seed}${TAG:-}
-  /usr/bin/time -f "%e" -o "$dir.wall" "$exe" --scene "$scene" --set grid.cell_size=$cell \
+  /usr/bin/time -f "%e %U %S" -o "$dir.time" "$exe" --scene "$scene" --set grid.cell_size=$cell \
     "${drive[@]}" \
     --set time.end=$tend --set output.snapshot_interval=$snap --set run.seed=$seed \
     --set "material[0].flaw_sampling=\"$smp\"" --set output.directory=$dir ${EXTRA:-} > "$dir.log" 2>&1
   row=$(/usr/bin/python3 "$here/lab_strength.py" "$dir")
-  echo "$row,$(cat "$dir.wall")" | tee -a "$out/scene_summary.csv"
+  read -r wall usr sys < "$dir.time"
+  echo "$row,$wall,$(awk "BEGIN{print $usr + $sys}")" | tee -a "$out/scene_summary.csv"
 done
