@@ -11,8 +11,9 @@
 # pipeline's defaults): 30 s of MPM, one sphere per MPM cell (COARSEN = 1), fragments faster than
 # 1 km/s dropped at the hand-off, 4.5 h of reaccumulation with every contacting pair resolved by
 # >= 20 steps (multi-rate, reaccumulate.toml); the impactor's particle spacing is <= 500 m
-# (body[1].ppc). N-body cost on 2 cores grows as ~h^-4.5 (README: ~2.5 min at 2000 m, ~45 min at
-# 1000 m, ~40 h at 375 m), so on a small machine give e.g. IMPACT_CONV_CELLS="2000 1500 1000".
+# (body[1].ppc). The N-body cost grows as ~h^-4 (README: on 2 cores ~3 min at 2000 m, ~10 min at
+# 1500 m, ~1 h at 1000 m, ~2 days at 375 m), so on a small machine give e.g.
+# IMPACT_CONV_CELLS="2000 1500 1000".
 # Each run stops after the analysis (no report); every stage is rerun only when its inputs change.
 # Then for each reading convergence.py writes d<D>/convergence.{md,csv,png} over the cell runs that
 # exist (Richardson from the three finest, the seed scatter from every d<D>/ensemble-c<cell>) and
