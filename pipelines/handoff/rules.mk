@@ -1,10 +1,12 @@
 # Hand-off studies (mpm2spheres). Included by pipelines/Makefile, which declares ROOT, BUILD, RUNS, PY and JOBS.
-HANDOFF_SNAPSHOT ?= $(RUNS)/demo/fragment/final.h5
+# default: the impact at the former demo settings (1 km cells, 10 s of MPM: 8225 particles), the
+# snapshot of the handoff README's tables (made by `make -C pipelines nbody-debris-scenes`)
+HANDOFF_SNAPSHOT ?= $(RUNS)/demo-c1000/fragment/final.h5
 
 .PHONY: handoff-compare handoff-bench
 
-handoff-compare: $(BIN_HANDOFF) ## paper vs conserving method, coarsen 1-3, on one snapshot (default: the demo's last MPM snapshot)
-	@test -f $(HANDOFF_SNAPSHOT) || { echo "no snapshot $(HANDOFF_SNAPSHOT): run 'make -C pipelines demo' or set HANDOFF_SNAPSHOT=..."; exit 2; }
+handoff-compare: $(BIN_HANDOFF) ## paper vs conserving method, coarsen 1-3, on one snapshot (default: the 1 km impact's last MPM snapshot)
+	@test -f $(HANDOFF_SNAPSHOT) || { echo "no snapshot $(HANDOFF_SNAPSHOT): run 'make -C pipelines nbody-debris-scenes' or set HANDOFF_SNAPSHOT=..."; exit 2; }
 	$(PY) $(ROOT)/pipelines/handoff/compare.py $(BIN_HANDOFF) $(HANDOFF_SNAPSHOT) $(RUNS)/handoff-compare
 
 handoff-bench: build ## hand-off throughput on 1e6 particles, 1 and 2 threads, peak memory, snapshot I/O vs dd (table in runs/handoff-bench)

@@ -7,8 +7,13 @@
 # For each impactor diameter in IMPACT_CONV_IMPACTORS (the paper's stated 1.21 km, and 2.42 km, the
 # diameter its Q = 1.13e8 erg/g needs) and each MPM cell in IMPACT_CONV_CELLS, one run of the impact
 # (seed 2019) in $(IMPACT_CONV_DIR)/d<D>/cells/c<cell>; at IMPACT_CONV_SEED_CELL the same run again for
-# each of IMPACT_CONV_SEEDS in d<D>/seeds-c<cell>/s<seed>. The N-body stage is the demo's: 3 km spheres
-# (COARSEN = 3 km / cell), 1 h, dt for 4 steps per contact of the lightest pair; the MPM runs 10 s.
+# each of IMPACT_CONV_SEEDS in d<D>/seeds-c<cell>/s<seed>. Every run is the paper's method (the
+# pipeline's defaults): 30 s of MPM, one sphere per MPM cell (COARSEN = 1), fragments faster than
+# 1 km/s dropped at the hand-off, 4.5 h of reaccumulation with every contacting pair resolved by
+# >= 20 steps (multi-rate, reaccumulate.toml); the impactor's particle spacing is <= 500 m
+# (body[1].ppc). The N-body cost grows as ~h^-4 (README: on 2 cores ~3 min at 2000 m, ~10 min at
+# 1500 m, ~1 h at 1000 m, ~2 days at 375 m), so on a small machine give e.g.
+# IMPACT_CONV_CELLS="2000 1500 1000".
 # Each run stops after the analysis (no report); every stage is rerun only when its inputs change.
 # Then for each reading convergence.py writes d<D>/convergence.{md,csv,png} over the cell runs that
 # exist (Richardson from the three finest, the seed scatter from every d<D>/ensemble-c<cell>) and
@@ -19,13 +24,12 @@ IMPACT_CONV_CELLS     ?= 1000 750 500 375
 IMPACT_CONV_SEED_CELL ?= 1000
 IMPACT_CONV_SEEDS     ?= 1 2
 IMPACT_CONV_DIR       ?= $(RUNS)/impact-convergence
-# N-body snapshots at 3 s and 30 s after the hand-off too (damage profiles, cf. paper Fig. 6)
-CONV_TIMES = MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[3.0, 30.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
-  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
+# N-body snapshots at 3 s, 30 s and 2 h after the hand-off too (damage profiles, cf. paper Fig. 6)
+CONV_TIMES = 'NBODY_TIMES=[3.0, 30.0, 600.0, 1800.0, 3600.0, 7200.0, 10800.0, 16200.0]'
 # one run: $(call conv_run,impactor diameter,cell,run directory,seed)
 conv_ppc = $$(awk "BEGIN{p = int($(1)/500 + 0.999); print (p < 2 ? 2 : p)}")
 conv_run = $(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact-analyse IMPACTOR_DIAMETER=$(1) CELL=$(2) RUN=$(3) SEED=$(4) \
-  COARSEN=$$(awk "BEGIN{print int(3000/$(2) + 0.5)}") MPM_SETS="--set body[1].ppc=$(call conv_ppc,$(2))" $(CONV_TIMES)
+  MPM_SETS="--set body[1].ppc=$(call conv_ppc,$(2))" $(CONV_TIMES)
 
 .PHONY: impact-convergence
 impact-convergence: tools ## both impactor readings at 1000/750/500/375 m cells + seeds at 1000 m: table, Richardson, seed scatter

@@ -23,5 +23,5 @@ impact-ensemble: tools ## the impact once per flaw seed (SEEDS="1 2 3"), mean an
 	$(PY) $(IMPACT_DIR)/ensemble.py $(foreach s,$(SEEDS),$(ENSEMBLE)/seed$(s)) --out $(ENSEMBLE)
 	@echo "ensemble: $(ENSEMBLE)/ensemble.md"
 
-demo-ensemble: tools ## the demo impact once per flaw seed (SEEDS="1 2 3"; ~20 s per seed on 2 cores)
+demo-ensemble: tools ## the demo impact once per flaw seed (SEEDS="1 2 3"; minutes per seed on 2 cores, as the demo)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact-ensemble ENSEMBLE=$(RUNS)/demo-ensemble $(DEMO_SETTINGS)

@@ -34,6 +34,12 @@ DOMAIN_FACTOR ?= 3.2
 # Material that leaves the MPM grid (fast ejecta, rebounding impactor fragments): "remove" takes
 # it out of the MPM step and hands it off from fragment/frag_outflow.h5; "stop" ends the run (exit 3).
 OUTFLOW       ?= remove
+# Fragments faster than HANDOFF_MAX_SPEED [m/s] at the hand-off are dropped (mpm2spheres
+# select.max_speed; their mass and momentum are in the audit; 0 keeps every particle). 1 km/s is
+# ~65 escape speeds of the 25 km target: they escape for certain and are not in beta or M_LR
+# (bound material only; M_PB is taken from the MPM at t = 0). As lone impactor particles they are
+# the lightest spheres, whose contacts would set the N-body base step (2 km cells: 3.3x the cost).
+HANDOFF_MAX_SPEED ?= 1000
 RUN           ?= $(RUNS)/impact-c$(CELL)-v$(IMPACT_SPEED)
 MPM_SETS      ?=
 NBODY_SETS    ?=
@@ -65,7 +71,7 @@ ANALYSE_SETS  ?=
 # rewritten only when they change, so `make ... NBODY_SETS=...` reruns the N-body stage and what
 # follows it, and nothing before it.
 FRAGMENT_VARS = $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
-HANDOFF_VARS  = --method $(HANDOFF_METHOD) --coarsen $(COARSEN) $(HANDOFF_SETS)
+HANDOFF_VARS  = --method $(HANDOFF_METHOD) --coarsen $(COARSEN) --set select.max_speed=$(HANDOFF_MAX_SPEED) $(HANDOFF_SETS)
 NBODY_VARS    = $(NBODY_SCENE) time.end=$(NBODY_TIME) output.times=$(NBODY_TIMES) $(NBODY_SETS)
 ANALYSE_VARS  = --set impact.target_radius=$(R_T) $(ANALYSE_SETS)
 $(RUN)/.vars/%: FORCE | $(RUN)/.dir
@@ -86,14 +92,15 @@ impact: $(RUN)/report.md ## the full chain with the current variables
 impact-paper: ## the published resolution: 200 m cells, 30 s MPM, 4.5 h N-body (cluster-sized, see README)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact CELL=200 COARSEN=1
 
-# Demo: 1 km MPM cells (8 particles across the impactor, ~8200 in all), 10 s of MPM (the
-# impactor's rebounding fragments leave an 80 km grid at ~12 s), 3 km spheres, 1 h of
-# reaccumulation with dt set so that the lightest pair (a lone impactor particle against a full
-# sphere) gets 4 steps per contact and a full pair ~40. The paper: 200 m, 30 s, 100 m spheres, 4.5 h.
-DEMO_TIMES = MPM_TIME=10 NBODY_TIME=3600 'NBODY_TIMES=[600.0, 1200.0, 1800.0, 2700.0, 3600.0]' \
-  NBODY_SETS="--set time.steps_per_contact=4 --set time.min_steps_per_contact=4"
-DEMO_SETTINGS = CELL=1000 COARSEN=3 MPM_SETS="--set body[1].ppc=2" $(DEMO_TIMES)
-demo: tools ## small impact end to end in minutes on 2 cores (1 km cells, 3 km spheres, 1 h N-body)
+# Demo: the paper's method at a coarse MPM cell. DEMO_CELL = 2 km MPM cells (~1000 particles; the
+# impactor, smaller than one cell, as 8 particles of 500 m: body[1].ppc = DEMO_CELL / 500), the
+# paper's 30 s of MPM, one sphere per MPM cell (COARSEN = 1), 4.5 h of reaccumulation with every
+# contacting pair resolved by >= 20 steps (reaccumulate.toml: multi-rate block steps). The cell is
+# what keeps it a few minutes on 2 cores: the N-body cost grows as ~h^-3 to h^-4 (README). The
+# paper: 200 m cells, 30 s, 100 m spheres (one per cell), 4.5 h.
+DEMO_CELL ?= 2000
+DEMO_SETTINGS = CELL=$(DEMO_CELL) MPM_SETS="--set body[1].ppc=$(shell awk 'BEGIN{print int($(DEMO_CELL)/500 + 0.999)}')"
+demo: tools ## the paper's method end to end in minutes on 2 cores (2 km cells, one sphere per cell, 4.5 h N-body)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact RUN=$(RUNS)/demo $(DEMO_SETTINGS)
 
 $(RUN)/.dir:
@@ -146,7 +153,7 @@ impact-print: ## print the stage commands without running them
 # a contact time step 20x shorter. beta and M_LR/M_PB count bound material only, so they are unchanged.
 DART_SETTINGS = FRAGMENT_SCENE=$(IMPACT_DIR)/dart/fragment.toml NBODY_SCENE=$(IMPACT_DIR)/dart/reaccumulate.toml \
   TARGET_DIAMETER=160 IMPACT_SPEED=6145 DOMAIN_FACTOR=2 'MPM_SETS=--set body[1].ppc=8' \
-  'HANDOFF_SETS=--set select.max_speed=1000'
+  HANDOFF_MAX_SPEED=1000
 dart: tools ## DART-like impact on a 160 m moonlet, impactor resolved: 1 m cells, 2 m impactor, 0.2 s MPM (~2e6 particles, ~8 core-hours)
 	$(MAKE) -f $(firstword $(MAKEFILE_LIST)) impact $(DART_SETTINGS) RUN=$(RUNS)/dart \
 	  CELL=1 IMPACTOR_DIAMETER=2 MPM_TIME=0.2 SNAP_INTERVAL=0.04 COARSEN=4 NBODY_TIME=7200 \

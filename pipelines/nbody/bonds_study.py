@@ -37,7 +37,10 @@ FAMILIES = {
     # cohesion strength used in the "coh" variants
     "paper": dict(scene="pipelines/impact/reaccumulate.toml", coarsen=3, radius=12500.0, end=3600.0,
                   times=[60.0, 150.0, 300.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0],
-                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4"],
+                  # the study's (pre-paper-method) N-body: single rate (bonds are refused with
+                  # multi-rate), gravity every 10 steps, 4 steps per contact
+                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4",
+                              "time.multirate=false", "gravity.every=10"],
                   handoff_sets=[], cohesion=1e5, sigma=(1e6, 1e7)),
     "dart": dict(scene="pipelines/impact/dart/reaccumulate.toml", coarsen=2, radius=80.0, end=1800.0,
                  times=[30.0, 60.0, 150.0, 300.0, 900.0, 1800.0],

@@ -73,7 +73,8 @@ def main():
     if o.get("--debris"):
         h5, t_end = o["--debris"].split(":")
         sets = [f'initial.source="file"', f'initial.file="{h5}"', "output.snapshot_interval=0",
-                "output.series_every=1000000000", f"time.end={t_end}"]
+                "output.series_every=1000000000", f"time.end={t_end}",
+                "time.multirate=false", "gravity.every=10"]  # the scene before its paper-method default
         reacc = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
         cases.append((f"debris {os.path.basename(h5)}, {t_end} s, reaccumulation scene", sets, True, reacc))
     lines = [f"# nbody-gravity-bench (old = {old or 'none'}, new = {new})", "",

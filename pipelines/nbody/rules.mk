@@ -41,10 +41,14 @@ nbody-collapse-smoke: ## nbody-collapse at N = 2000 for 0.3 free-fall times (sec
 # piled + 1e4 flying spheres (1-100 m/s, nbody-debris-cloud) and the static rubble pile. With
 # DEBRIS_OLD=<another ssdem-grav> old and new run interleaved (old, new, ...; DEBRIS_ROUNDS rounds);
 # nbody-debris-skin: the contact.skin sweep (DEBRIS_SKINS, x max radius) with this build.
+# The N-body benches' and the bonds study's fixed input: the impact at the demo's former settings
+# (1 km MPM cells, 10 s of MPM; the demo itself now runs the paper's method at 2 km cells).
+DEMO1K := $(RUNS)/demo-c1000
+DEMO1K_SETTINGS = RUN=$(DEMO1K) CELL=1000 'MPM_SETS=--set body[1].ppc=2' MPM_TIME=10
 DEBRIS_OLD    ?=
 DEBRIS_ROUNDS ?= 3
 DEBRIS_SKINS  ?= 0.05,0.1,0.25,0.5,1
-DEBRIS_ENV = ROOT=$(ROOT) DEMO_SPHERES=$(RUNS)/demo/spheres.h5 CLOUD=$(RUNS)/nbody-debris/cloud.h5 \
+DEBRIS_ENV = ROOT=$(ROOT) DEMO_SPHERES=$(DEMO1K)/spheres.h5 CLOUD=$(RUNS)/nbody-debris/cloud.h5 \
   DEMO_TIME=600 CLOUD_TIME=$(CLOUD_TIME) PILE_TIME=$(PILE_TIME)
 CLOUD_TIME ?= 0.02
 PILE_TIME  ?= 200
@@ -52,8 +56,8 @@ PILE_TIME  ?= 200
 
 nbody-debris-scenes:
 	cmake --build $(BUILD) --target ssdem-grav nbody-debris-cloud -j $(JOBS)
-	test -f $(RUNS)/demo/spheres.h5 || $(MAKE) -f $(ROOT)/pipelines/Makefile $(RUNS)/demo/spheres.h5 \
-	  RUN=$(RUNS)/demo CELL=1000 COARSEN=3 'MPM_SETS=--set body[1].ppc=2' MPM_TIME=10
+	test -f $(DEMO1K)/spheres.h5 || $(MAKE) -f $(ROOT)/pipelines/Makefile $(DEMO1K)/spheres.h5 \
+	  $(DEMO1K_SETTINGS) COARSEN=3 HANDOFF_MAX_SPEED=0
 	mkdir -p $(RUNS)/nbody-debris
 	test -f $(RUNS)/nbody-debris/cloud.h5 || $(BUILD)/tests/nbody/nbody-debris-cloud $(RUNS)/nbody-debris/cloud.h5
 
@@ -107,11 +111,12 @@ nbody-gravity-sweep: ## tree force error and cost vs theta, bucket, group (dense
 	  0.25,0.3,0.35,0.4,0.5 8,16 32,64,128 | tee $(RUNS)/nbody-gravity/sweep.md
 
 # nbody-bonds-study (issue 18): bonds from the hand-off and cohesion on/off on the demo impact's
-# MPM output (BONDS_RUN, default the demo run; `make demo` first) and, with nbody-bonds-study-dart,
+# MPM output (BONDS_RUN, default $(DEMO1K): the impact at the former demo settings, 1 km cells, 10 s;
+# `make nbody-debris-scenes` first) and, with nbody-bonds-study-dart,
 # on the DART-like family (BONDS_DART_RUN, `make dart-demo` first): M_LR/M_PB, beta, escaping mass
 # against time, bonds broken against time, released bond energy, cost per sphere-step (bonds off
 # and on interleaved). Writes runs/nbody-bonds-study/<family>/bonds_study.{md,json,png}.
-BONDS_RUN ?= $(RUNS)/demo
+BONDS_RUN ?= $(DEMO1K)
 BONDS_DART_RUN ?= $(RUNS)/dart-demo
 # BONDS_OLD: a previous ssdem-grav, whose bonds-off cost and peak memory are measured interleaved
 # with the new binary's ("no bonds, no cost").
@@ -119,7 +124,7 @@ BONDS_OLD ?=
 BONDS_VARIANTS ?= base,bonds-Dc0.125-hi,bonds-Dc1-lo,bonds-Dc1-hi,coh,bonds-Dc1-hi+coh
 .PHONY: nbody-bonds-study nbody-bonds-study-dart
 nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M_PB, beta, ejecta and broken bonds vs time, cost (~3 min)
-	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines demo first"; exit 1; }
+	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines nbody-debris-scenes first"; exit 1; }
 	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(RUNS)/nbody-bonds-study/paper $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
 nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's MPM output; ~15 min)
 	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
@@ -139,11 +144,10 @@ PAPER_SPHERES    = $(RUNS)/nbody-paper/spheres_c1.h5
 .PHONY: nbody-paper-bench
 nbody-paper-bench: ## paper-method debris (8 225 spheres, 20 steps/contact): wall, phases, levels (old vs new with PAPER_OLD=)
 	cmake --build $(BUILD) --target ssdem-grav mpm2spheres -j $(JOBS)
-	test -f $(RUNS)/demo/fragment/done || $(MAKE) -f $(ROOT)/pipelines/Makefile $(RUNS)/demo/fragment/done \
-	  RUN=$(RUNS)/demo CELL=1000 COARSEN=3 'MPM_SETS=--set body[1].ppc=2' MPM_TIME=10
+	test -f $(DEMO1K)/fragment/done || $(MAKE) -f $(ROOT)/pipelines/Makefile $(DEMO1K)/fragment/done $(DEMO1K_SETTINGS)
 	mkdir -p $(RUNS)/nbody-paper
-	test -f $(PAPER_SPHERES) || $(BIN_HANDOFF) -i $(RUNS)/demo/fragment/final.h5 -o $(PAPER_SPHERES) \
-	  --method paper --coarsen 1 $$(test -f $(RUNS)/demo/fragment/frag_outflow.h5 && echo --outflow $(RUNS)/demo/fragment/frag_outflow.h5)
+	test -f $(PAPER_SPHERES) || $(BIN_HANDOFF) -i $(DEMO1K)/fragment/final.h5 -o $(PAPER_SPHERES) \
+	  --method paper --coarsen 1 $$(test -f $(DEMO1K)/fragment/frag_outflow.h5 && echo --outflow $(DEMO1K)/fragment/frag_outflow.h5)
 	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/paper_bench.py $(or $(PAPER_OLD),-) $(BIN_NBODY) $(PAPER_SPHERES) \
 	  $(RUNS)/nbody-paper --time $(PAPER_TIME) --rounds $(PAPER_ROUNDS) --max-every $(PAPER_MAX_EVERY)
 

@@ -15,7 +15,7 @@ rm -rf "$work"; mkdir -p "$work"
 ens=$work/ens
 seeds="3 7 11"
 vars=(BUILD="$build" ENSEMBLE="$ens" SEEDS="$seeds" CELL=2000 IMPACTOR_DIAMETER=4000 IMPACT_SPEED=3000 MPM_TIME=1
-      SNAP_INTERVAL=0.5 COARSEN=1 NBODY_TIME=30 'NBODY_TIMES=[15.0, 30.0]' NBODY_SETS="--set time.steps_per_contact=10")
+      SNAP_INTERVAL=0.5 COARSEN=1 NBODY_TIME=30 'NBODY_TIMES=[15.0, 30.0]' NBODY_SETS="--set time.steps_per_contact=10 --set time.min_steps_per_contact=10")
 mk() { make -s -C "$root/pipelines" impact-ensemble "${vars[@]}" "$@" > "$work/make.log" 2>&1 || { cat "$work/make.log"; exit 1; }; }
 fail() { echo "FAIL: $*"; exit 1; }
 PY=/usr/bin/python3

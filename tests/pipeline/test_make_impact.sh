@@ -14,7 +14,7 @@ rm -rf "$work"; mkdir -p "$work"
 run=$work/run
 vars=(BUILD="$build" RUN="$run" CELL=2000 IMPACTOR_DIAMETER=4000 IMPACT_SPEED=10 MPM_TIME=1 SNAP_INTERVAL=0.5 COARSEN=1
       NBODY_TIME=30 'NBODY_TIMES=[15.0, 30.0]')
-nb='--set time.steps_per_contact=10'
+nb='--set time.steps_per_contact=10 --set time.min_steps_per_contact=10'
 mk() { make -s -C "$root/pipelines" impact "${vars[@]}" "$@" > "$work/make.log" 2>&1 || { cat "$work/make.log"; exit 1; }; }
 mt() { stat -c '%.9Y' "$1"; }
 fail() { echo "FAIL: $*"; exit 1; }
