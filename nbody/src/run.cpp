@@ -210,8 +210,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         if (s >= 0 && s <= st.step) rd.carry(n);
       }
     }
-    // the checkpoint's bonds in place of the file's, so that the dt rule sees what the run started with
-    SimConfig cfg = sim_config(sc, st.sp, &info, sc.boolean("bonds.generate") ? nullptr : &st.bonds);
+    // the checkpoint's bonds (generated or from the file), so that the dt rule and run_info.txt see
+    // the bonds the run continues with
+    SimConfig cfg = sim_config(sc, st.sp, &info, &st.bonds, restart);
     if (cfg.contacts && kn0 > 0.0 && cfg.contact.kn != kn0) {
       if (sc.given("contact.normal.kn"))
         spdlog::warn("restart: contact.normal.kn = {} differs from the checkpoint's {}; using the "

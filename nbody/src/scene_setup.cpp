@@ -229,7 +229,8 @@ Spheres initial_spheres(const common::Scene& sc, BondSet* file_bonds) {
   return sp;
 }
 
-SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info, const BondSet* file_bonds) {
+SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info, const BondSet* file_bonds,
+                     const std::string& checkpoint) {
   SimConfig c;
   std::ostringstream os;
   c.self_gravity = sc.boolean("gravity.self");
@@ -312,7 +313,14 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
     }
     c.skin = sc.real("contact.skin");
     c.max_overlap_frac = sc.real("contact.max_overlap_fraction");
-    if (sc.boolean("bonds.generate")) {
+    if (!checkpoint.empty()) {
+      // a restart: the checkpoint's bonds (generated or from the file at the start) with their broken flags
+      if (file_bonds && !file_bonds->empty()) {
+        c.bonds = *file_bonds;
+        os << c.bonds.size() << " bonds from checkpoint " << checkpoint << " (" << c.bonds.broken_count()
+           << " of them broken)\n";
+      }
+    } else if (sc.boolean("bonds.generate")) {
       BondParams bp;
       bp.kn = sc.real("bonds.kn");
       bp.ks = sc.real("bonds.ks");
@@ -323,7 +331,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       c.bonds = generate_bonds(sp, bp);
       os << c.bonds.size() << " bonds generated\n";
     }
-    if (file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file")) {
+    if (checkpoint.empty() && file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file")) {
       if (sc.boolean("bonds.generate"))
         throw common::InputError(sc.where("bonds.generate") + ": the input file " + sc.string("initial.file") +
                                  " has bonds; set bonds.from_file = false to generate bonds instead");
@@ -347,7 +355,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
        << common::choice_name(kPredictors, c.extrapolated_predictor ? Predictor::extrapolated : Predictor::pkdgrav)
        << (pred == Predictor::automatic ? " (auto: " + std::to_string(tau_min / c.dt) + " steps per shortest contact)" : "") << "\n";
   }
-  if (!c.contacts && file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file"))
+  if (!c.contacts && checkpoint.empty() && file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file"))
     throw common::InputError(sc.where("contact.enabled") + ": the input file " + sc.string("initial.file") +
                              " has bonds, which need the soft-sphere contacts; enable them or set bonds.from_file = false");
   if (!(c.dt > 0.0))

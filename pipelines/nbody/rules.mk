@@ -130,6 +130,19 @@ nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's M
 	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
 	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
 
+# nbody-bonds-momentum (issue 18): where the beta of a bonded remnant comes from (bonds_momentum.py,
+# seconds; after nbody-bonds-study-dart): the bonded components of the study's bonds-Dc1-hi variant
+# and their momenta at hand-off and later, the MPM momentum partition of BONDS_DART_RUN (the top cap
+# that breaks away against the rest), and the dt rule's bond modes against a bonded lattice's highest
+# mode. Writes runs/nbody-bonds-study/dart/momentum.md.
+.PHONY: nbody-bonds-momentum
+nbody-bonds-momentum: ## beta of a bonded remnant: bonded components, MPM momentum partition, lattice stability of the bond dt rule (seconds)
+	@test -d $(RUNS)/nbody-bonds-study/dart/bonds-Dc1-hi || { echo "run make -C pipelines nbody-bonds-study-dart first"; exit 1; }
+	{ $(PY) $(NBODY_DIR)/bonds_momentum.py components $(RUNS)/nbody-bonds-study/dart/bonds-Dc1-hi && echo && \
+	  $(PY) $(NBODY_DIR)/bonds_momentum.py partition $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart/bonds-Dc1-hi && echo && \
+	  $(PY) $(NBODY_DIR)/bonds_momentum.py lattice; } > $(RUNS)/nbody-bonds-study/dart/momentum.md
+	cat $(RUNS)/nbody-bonds-study/dart/momentum.md
+
 # nbody-paper-bench: issue 15's "impact debris, the paper's method": the demo impact's last MPM
 # snapshot handed off with one sphere per cell (COARSEN=1, 8 225 spheres of 1 km), every contact
 # resolved by >= 20 steps, PAPER_TIME simulated seconds on 2 threads; new = multi-rate

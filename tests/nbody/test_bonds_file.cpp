@@ -253,5 +253,12 @@ TEST(BondsFromFile, RestartWithFileBondsIsBitIdentical) {
   const auto ra = csv(d + "/full/series.csv"), rb = csv(d + "/part/series.csv");
   const std::size_t rel = col(ra[0], "bond_released_J");
   EXPECT_EQ(ra.back()[rel], rb.back()[rel]);
+  // run_info.txt of the continuation names the checkpoint as the bonds' source, with the bond
+  // still intact at the stop (it breaks later), not the initial file
+  std::ifstream ri(d + "/part/run_info.txt");
+  const std::string info((std::istreambuf_iterator<char>(ri)), std::istreambuf_iterator<char>());
+  EXPECT_NE(info.find("1 bonds from checkpoint " + d + "/part/checkpoint.h5 (0 of them broken)"), std::string::npos)
+      << info;
+  EXPECT_EQ(info.find("bonds from " + d + "/in.h5"), std::string::npos) << info;
   fs::remove_all(d);
 }

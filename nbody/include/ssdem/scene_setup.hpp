@@ -31,7 +31,10 @@ Spheres initial_spheres(const common::Scene& scene, BondSet* file_bonds = nullpt
 /// Bonds: bonds.generate, or the input file's bonds (`file_bonds`) when bonds.from_file is true
 /// (the default: a hand-off file's bonds are used automatically); both at once is an InputError.
 /// With time.dt = 0 the step resolves the shortest bond mode like a contact (dt_rule.hpp).
+/// `checkpoint` (a restart): the path of the checkpoint whose bonds `file_bonds` then holds; they
+/// are the run's bonds whatever their origin (bonds.* cannot change over a restart, run identity),
+/// so nothing is generated and `info` names the checkpoint as their source.
 SimConfig sim_config(const common::Scene& scene, const Spheres& sp, std::string* info = nullptr,
-                     const BondSet* file_bonds = nullptr);
+                     const BondSet* file_bonds = nullptr, const std::string& checkpoint = std::string());
 
 }  // namespace ssdem
