@@ -29,6 +29,8 @@ import time
 import h5py
 import numpy as np
 
+from debris_bench import SINGLE_RATE  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.abspath(os.path.join(HERE, os.pardir, os.pardir))
 
@@ -39,8 +41,7 @@ FAMILIES = {
                   times=[60.0, 150.0, 300.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0],
                   # the study's (pre-paper-method) N-body: single rate (bonds are refused with
                   # multi-rate), gravity every 10 steps, 4 steps per contact
-                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4",
-                              "time.multirate=false", "gravity.every=10"],
+                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4", *SINGLE_RATE],
                   handoff_sets=[], cohesion=1e5, sigma=(1e6, 1e7)),
     "dart": dict(scene="pipelines/impact/dart/reaccumulate.toml", coarsen=2, radius=80.0, end=1800.0,
                  times=[30.0, 60.0, 150.0, 300.0, 900.0, 1800.0],

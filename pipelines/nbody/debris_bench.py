@@ -20,7 +20,8 @@ DONE = re.compile(r"done: (\d+) steps; wall s: gravity ([\d.]+).*?neighbours ([\
                   r"(?: \((\d+) rebuilds\))?, contacts ([\d.]+), integrate ([\d.]+)")
 
 # the reaccumulation scene's settings before the paper's method became its default (multi-rate,
-# controlled cadence): what this bench's cases measure
+# controlled cadence): what this bench's cases measure (shared with the other nbody benches and the
+# bonds study)
 SINGLE_RATE = ["time.multirate=false", "gravity.every=10"]
 
 

@@ -20,7 +20,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from debris_bench import ROOT, run  # noqa: E402
+from debris_bench import ROOT, SINGLE_RATE, run  # noqa: E402
 
 BASE = os.path.join(ROOT, "pipelines", "nbody", "dense_pile.toml")
 EVALS = re.compile(r"gravity [\d.]+ \((\d+) evals")
@@ -74,7 +74,7 @@ def main():
         h5, t_end = o["--debris"].split(":")
         sets = [f'initial.source="file"', f'initial.file="{h5}"', "output.snapshot_interval=0",
                 "output.series_every=1000000000", f"time.end={t_end}",
-                "time.multirate=false", "gravity.every=10"]  # the scene before its paper-method default
+                *SINGLE_RATE]  # the scene before its paper-method default
         reacc = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
         cases.append((f"debris {os.path.basename(h5)}, {t_end} s, reaccumulation scene", sets, True, reacc))
     lines = [f"# nbody-gravity-bench (old = {old or 'none'}, new = {new})", "",
