@@ -80,6 +80,8 @@ class PairClock {
   PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax);
   /// reduced mass mu [kg], reduced radius R [m]
   int level(double mu, double R) const;
+  /// max(0, floor(log2(tc / (N h)))), at most lmax: the level of an oscillation of half-period tc
+  int level_of_time(double tc) const;
 
  private:
   ContactParams p_;
