@@ -10,8 +10,17 @@ Bond stiffness: k_n A of every bond equals the contact stiffness k_n the kinetic
 the bonds-off run (run_info.txt), k_s = k_n / 2.5, so the bonds leave the time step as it is;
 the strengths sigma_c = tau_c are the study's variable (scaled by the damage law).
 
+N-body method (--method): "paper" (default) runs the family's reaccumulation scene as the pipeline
+does (reaccumulate.toml: multi-rate block steps, >= 20 steps per contact and per bond mode,
+error-controlled gravity cadence; the paper family also drops fragments > 1 km/s at the hand-off
+like the pipeline, HANDOFF_MAX_SPEED); "single-rate" the study's former settings (single rate,
+gravity every 10 steps, 4 steps per contact; debris_bench.SINGLE_RATE).
+
 usage: bonds_study.py FAMILY RUN_DIR OUT_DIR BUILD_DIR [--variants a,b,...] [--cost-rounds K]
+                      [--method paper|single-rate] [--coarsen C]
   FAMILY: paper (the demo impact, pipelines/impact/reaccumulate.toml) or dart (dart/reaccumulate.toml)
+  --coarsen: MPM cells per sphere edge at the hand-off (default the family's: paper 3 for the
+  1 km-cell run, use 1 for the 2 km-cell demo as the demo's own hand-off)
 With SUITE_LOCK set (shared machines), each variant and each cost run holds that lock file (flock).
 """
 import argparse
@@ -39,14 +48,15 @@ FAMILIES = {
     # cohesion strength used in the "coh" variants
     "paper": dict(scene="pipelines/impact/reaccumulate.toml", coarsen=3, radius=12500.0, end=3600.0,
                   times=[60.0, 150.0, 300.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0],
-                  # the study's (pre-paper-method) N-body: single rate (bonds are refused with
-                  # multi-rate), gravity every 10 steps, 4 steps per contact
+                  # --method single-rate: the study's former N-body (single rate, gravity every
+                  # 10 steps, 4 steps per contact); --method paper: the scene as it is
                   nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4", *SINGLE_RATE],
-                  handoff_sets=[], cohesion=1e5, sigma=(1e6, 1e7)),
+                  handoff_sets=[], paper_handoff_sets=["select.max_speed=1000"], cohesion=1e5, sigma=(1e6, 1e7)),
     "dart": dict(scene="pipelines/impact/dart/reaccumulate.toml", coarsen=2, radius=80.0, end=1800.0,
                  times=[30.0, 60.0, 150.0, 300.0, 900.0, 1800.0],
                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4"],
-                 handoff_sets=["select.max_speed=1000"], cohesion=5.0, sigma=(1e4, 1e5)),
+                 handoff_sets=["select.max_speed=1000"], paper_handoff_sets=["select.max_speed=1000"], cohesion=5.0,
+                 sigma=(1e4, 1e5)),
 }
 
 # name: (bonds: None or (damage_critical, index of the family's strength sigma_c = tau_c: 0 low, 1 high),
@@ -176,8 +186,17 @@ def main():
     ap.add_argument("--cost-rounds", type=int, default=2)
     ap.add_argument("--cost-time", type=float, default=600.0)
     ap.add_argument("--old-exe", help="previous ssdem-grav: its bonds-off cost and peak memory beside the new one's")
+    ap.add_argument("--method", choices=["paper", "single-rate"], default="paper",
+                    help="paper: the family's reaccumulation scene as the pipeline runs it (multi-rate); "
+                         "single-rate: the study's former settings")
+    ap.add_argument("--coarsen", type=int, help="hand-off coarsening (default: the family's)")
     a = ap.parse_args()
-    fam = FAMILIES[a.family]
+    fam = dict(FAMILIES[a.family])
+    if a.method == "paper":
+        fam["nbody_sets"] = []
+        fam["handoff_sets"] = fam["paper_handoff_sets"]
+    if a.coarsen:
+        fam["coarsen"] = a.coarsen
     frag = os.path.join(a.run, "fragment")
     os.makedirs(a.out, exist_ok=True)
     res = {}
@@ -247,6 +266,9 @@ def main():
 
 def write_table(a, fam, res, names):
     lines = [f"# Bonds and cohesion: {a.family} family ({a.run})", "",
+             f"N-body method: {a.method} ({'the scene as the pipeline runs it: multi-rate' if a.method == 'paper' else 'single rate'}; "
+             f"sets {' '.join(fam['nbody_sets']) or 'none'}); hand-off coarsen {fam['coarsen']}, sets "
+             f"{' '.join(fam['handoff_sets']) or 'none'}.", "",
              f"Bond stiffness k_n = {res['_bond_kn']:.4g} N/m^3 (k_n A = the contact k_n), k_s = k_n / 2.5; "
              f"cohesion {fam['cohesion']:g} Pa where on.", "",
              "| variant | spheres | bonds | sigma_c = tau_c [Pa] | mean damage factor | broken at end | released J (/ E0) | M_LR/M_PB | beta | "
