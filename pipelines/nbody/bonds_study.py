@@ -190,6 +190,8 @@ def main():
                     help="paper: the family's reaccumulation scene as the pipeline runs it (multi-rate); "
                          "single-rate: the study's former settings")
     ap.add_argument("--coarsen", type=int, help="hand-off coarsening (default: the family's)")
+    ap.add_argument("--cost-only", action="store_true",
+                    help="only the cost rounds, on the hand-offs and results of an earlier run into OUT_DIR")
     a = ap.parse_args()
     fam = dict(FAMILIES[a.family])
     if a.method == "paper":
@@ -204,7 +206,11 @@ def main():
     names = a.variants.split(",")
     if "base" in names:
         names.remove("base")
-    for name in ["base"] + names:
+    if a.cost_only:
+        with open(os.path.join(a.out, "bonds_study.json")) as f:
+            res = json.load(f)
+        kn_bond = res["_bond_kn"]
+    for name in [] if a.cost_only else ["base"] + names:
         bond_cfg, coh = VARIANTS[name]
         vdir = os.path.join(a.out, name)
         os.makedirs(vdir, exist_ok=True)
