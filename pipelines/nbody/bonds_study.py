@@ -190,6 +190,7 @@ def main():
                     help="paper: the family's reaccumulation scene as the pipeline runs it (multi-rate); "
                          "single-rate: the study's former settings")
     ap.add_argument("--coarsen", type=int, help="hand-off coarsening (default: the family's)")
+    ap.add_argument("--end", type=float, help="N-body end time [s] (default the family's; snapshots up to it)")
     ap.add_argument("--cost-only", action="store_true",
                     help="only the cost rounds, on the hand-offs and results of an earlier run into OUT_DIR")
     a = ap.parse_args()
@@ -199,6 +200,9 @@ def main():
         fam["handoff_sets"] = fam["paper_handoff_sets"]
     if a.coarsen:
         fam["coarsen"] = a.coarsen
+    if a.end:
+        fam["times"] = [t for t in fam["times"] if t < a.end] + [a.end]
+        fam["end"] = a.end
     frag = os.path.join(a.run, "fragment")
     os.makedirs(a.out, exist_ok=True)
     res = {}
@@ -240,6 +244,11 @@ def main():
                          broken_final=None if br is None else int(br[-1]))
         print(f"{name}: {nsph} spheres, {nbonds} bonds, M_LR/M_PB {final['M_LR_over_M_PB']:.4f}, "
               f"beta {final['beta']:.4f}, escaping {final['escaping_mass_fraction']:.4f}, wall {wall:.1f} s", flush=True)
+        res["_bond_kn"] = kn_bond
+        done = [n for n in names if n in res]
+        with open(os.path.join(a.out, "bonds_study.json"), "w") as f:  # after every variant
+            json.dump(res, f, indent=1)
+        write_table(a, fam, res, done, quiet=True)
     res["_bond_kn"] = kn_bond
 
     # Cost per sphere-step, bonds off and on interleaved (one thread, cost_time of N-body each).
@@ -270,9 +279,9 @@ def main():
     plot(a, res, ["base"] + names)
 
 
-def write_table(a, fam, res, names):
+def write_table(a, fam, res, names, quiet=False):
     lines = [f"# Bonds and cohesion: {a.family} family ({a.run})", "",
-             f"N-body method: {a.method} ({'the scene as the pipeline runs it: multi-rate' if a.method == 'paper' else 'single rate'}; "
+             f"N-body to {fam['end']:g} s, method: {a.method} ({'the scene as the pipeline runs it: multi-rate' if a.method == 'paper' else 'single rate'}; "
              f"sets {' '.join(fam['nbody_sets']) or 'none'}); hand-off coarsen {fam['coarsen']}, sets "
              f"{' '.join(fam['handoff_sets']) or 'none'}.", "",
              f"Bond stiffness k_n = {res['_bond_kn']:.4g} N/m^3 (k_n A = the contact k_n), k_s = k_n / 2.5; "
@@ -306,7 +315,8 @@ def write_table(a, fam, res, names):
                           f"{c['base']['median'] / c['base-old']['median']:.3f}."]
     with open(os.path.join(a.out, "bonds_study.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    if not quiet:
+        print("\n".join(lines))
 
 
 def plot(a, res, names):
