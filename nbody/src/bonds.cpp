@@ -3,6 +3,7 @@
 #include "ssdem/bonds.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -133,15 +134,25 @@ BondSystem::BondSystem(BondSet b, const Spheres& sp) : b_(std::move(b)) {
   }
 }
 
-void BondSystem::compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T) {
+void BondSystem::refresh_live() {
+  if (live_at_ == breaks_) return;
+  live_.clear();
   for (std::size_t k = 0; k < b_.size(); ++k)
+    if (!b_.broken[k]) live_.push_back(static_cast<std::uint32_t>(k));
+  live_at_ = breaks_;
+}
+
+void BondSystem::compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T) {
+  refresh_live();  // the intact bonds in ascending order: the same order as a scan of all bonds
+  for (std::uint32_t k : live_)
     if (!b_.broken[k]) compute_one(k, sp, h, F, T);
 }
 
 void BondSystem::compute_synchronised(const Spheres& sp, const std::vector<std::uint8_t>& sync,
                                       const std::vector<std::int64_t>& topen, std::int64_t step, double dt,
                                       std::vector<Vec3>& F, std::vector<Vec3>& T) {
-  for (std::size_t k = 0; k < b_.size(); ++k) {
+  refresh_live();
+  for (std::uint32_t k : live_) {
     if (b_.broken[k]) continue;
     const std::uint32_t a = ia_[k], b = ib_[k];
     if (!sync[a] && !sync[b]) continue;
@@ -180,6 +191,7 @@ void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::ve
     b_.released += (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
                    (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
     b_.broken[k] = 1;
+    ++breaks_;
     b_.Fs[k].setZero();
     b_.Mb[k].setZero();
     b_.Mt[k] = 0.0;

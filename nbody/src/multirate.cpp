@@ -349,6 +349,7 @@ void Simulation::step_multirate() {
     sync_[i] = level_[i] <= tz ? 1 : 0;
     promoted_[i] = 0;
   }
+  if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
   assign_levels(tz, L);
   equalise_levels(tz);
   active_.clear();

@@ -101,6 +101,8 @@ class BondSystem {
   /// Sphere indices of the bonds' ends (resolved from the ids).
   const std::vector<std::uint32_t>& index_a() const { return ia_; }
   const std::vector<std::uint32_t>& index_b() const { return ib_; }
+  /// Number of bonds broken by this BondSystem so far (changes when a bond breaks).
+  std::size_t breaks() const { return breaks_; }
   const BondSet& bonds() const { return b_; }
   std::size_t broken_count() const { return b_.broken_count(); }
   double released_energy() const { return b_.released; }
@@ -109,6 +111,9 @@ class BondSystem {
  private:
   BondSet b_;
   std::vector<std::uint32_t> ia_, ib_;
+  std::vector<std::uint32_t> live_;  ///< intact bonds, ascending (rebuilt after a break)
+  std::size_t breaks_ = 0, live_at_ = SIZE_MAX;  ///< breaks so far; breaks_ when live_ was built
+  void refresh_live();
   void compute_one(std::size_t k, const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T);
 };
 

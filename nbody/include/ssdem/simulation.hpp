@@ -196,11 +196,13 @@ class Simulation {
   void multirate_forces();
   // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
   void setup_bond_levels();
+  void bond_index();
   int bond_cap(std::uint32_t i, int c) const;
   int bond_bound(std::uint32_t i, int t) const;
   void enforce_bonds(std::uint32_t i, int tz);
   std::vector<std::uint8_t> blevel_;        ///< level l_b of each bond
-  std::vector<std::uint32_t> brow_, badj_;  ///< CSR: the bonds of each sphere (ascending)
+  std::vector<std::uint32_t> brow_, badj_, bfill_;  ///< CSR: the intact bonds of each sphere (ascending)
+  std::size_t bond_breaks_seen_ = 0;               ///< BondSystem::breaks() when the CSR was built
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
   std::vector<std::uint8_t> level_, sync_, promoted_, lnew_;
