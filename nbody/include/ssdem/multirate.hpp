@@ -59,7 +59,8 @@
 /// contact pair's level; its time scale enters through k_n, which the scene's k_n rule raises to
 /// >= F_c / x_max (scene_setup.cpp), hence through tau_c and l_c. Its force jump at touch and
 /// separation is first order in the pair's step (cohesion.hpp), resolved like single rate at N
-/// steps per contact.
+/// steps per contact (test_nbody_multirate: a cohesive pair on level 2 pulls off at the threshold
+/// with the exit speed of single rate at its step, 1e-3).
 /// Reach rule (no tunnelling). Positions are synchronised at every base step and the near test
 /// runs at every base step for all spheres, whatever their level: a sphere's displacement before
 /// the next test is at most |v| h, the same as in single-rate stepping at the base step. A pair
