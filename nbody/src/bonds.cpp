@@ -3,8 +3,10 @@
 #include "ssdem/bonds.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include "common/bond_columns.hpp"
@@ -132,48 +134,75 @@ BondSystem::BondSystem(BondSet b, const Spheres& sp) : b_(std::move(b)) {
   }
 }
 
+void BondSystem::refresh_live() {
+  if (live_at_ == breaks_) return;
+  live_.clear();
+  for (std::size_t k = 0; k < b_.size(); ++k)
+    if (!b_.broken[k]) live_.push_back(static_cast<std::uint32_t>(k));
+  live_at_ = breaks_;
+}
+
 void BondSystem::compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T) {
-  for (std::size_t k = 0; k < b_.size(); ++k) {
+  refresh_live();  // the intact bonds in ascending order: the same order as a scan of all bonds
+  for (std::uint32_t k : live_)
+    if (!b_.broken[k]) compute_one(k, sp, h, F, T);
+}
+
+void BondSystem::compute_synchronised(const Spheres& sp, const std::vector<std::uint8_t>& sync,
+                                      const std::vector<std::int64_t>& topen, std::int64_t step, double dt,
+                                      std::vector<Vec3>& F, std::vector<Vec3>& T) {
+  refresh_live();
+  for (std::uint32_t k : live_) {
     if (b_.broken[k]) continue;
     const std::uint32_t a = ia_[k], b = ib_[k];
-    const Vec3 rho = sp.x[b] - sp.x[a];
-    const double d = rho.norm();
-    const Vec3 n = rho / d;
-    const double la = (sp.s[a] * sp.s[a] - sp.s[b] * sp.s[b] + d * d) / (2.0 * d), lb = d - la;
-    const Vec3 uh = sp.v[b] - sp.v[a] - lb * sp.w[b].cross(n) - la * sp.w[a].cross(n);
-    const Vec3 dw = sp.w[b] - sp.w[a];
-    const Section q = section(b_.radius[k]);
-    // carry the shear force and bending moment with the bond frame, then increment
-    const FrameTransport tr(b_.n_old[k], n, sp.w[a] + sp.w[b], h);
-    Vec3 Fs = tr(b_.Fs[k]), Mb = tr(b_.Mb[k]);
-    b_.n_old[k] = n;
-    Fs += (b_.ks[k] * q.A * h) * (uh - uh.dot(n) * n);
-    const double dwn = dw.dot(n);
-    const double Mt = b_.Mt[k] + b_.ks[k] * q.J * dwn * h;
-    Mb += (b_.kn[k] * q.I * h) * (dw - dwn * n);
-    const double Fn = b_.kn[k] * q.A * (d - b_.length0[k]);
-    b_.Fs[k] = Fs;
-    b_.Mb[k] = Mb;
-    b_.Mt[k] = Mt;
-    const double rb = b_.radius[k];
-    const double sigma = Fn / q.A + Mb.norm() * rb / q.I;
-    const double tau = Fs.norm() / q.A + std::fabs(Mt) * rb / q.J;
-    if (sigma > b_.sigma_c[k] || tau > b_.tau_c[k]) {
-      b_.released += (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
-                     (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
-      b_.broken[k] = 1;
-      b_.Fs[k].setZero();
-      b_.Mb[k].setZero();
-      b_.Mt[k] = 0.0;
-      continue;
-    }
-    const Vec3 f = Fn * n + Fs;
-    const Vec3 nxF = n.cross(Fs);
-    F[a] += f;
-    F[b] -= f;
-    T[a] += la * nxF + Mt * n + Mb;
-    T[b] += lb * nxF - Mt * n - Mb;
+    if (!sync[a] && !sync[b]) continue;
+    if (!sync[a] || !sync[b] || topen[a] != topen[b])
+      throw std::logic_error("multi-rate: the two spheres of bond " + std::to_string(k) + " are not synchronised together");
+    compute_one(k, sp, static_cast<double>(step - topen[a]) * dt, F, T);
   }
+}
+
+void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::vector<Vec3>& F,
+                             std::vector<Vec3>& T) {
+  const std::uint32_t a = ia_[k], b = ib_[k];
+  const Vec3 rho = sp.x[b] - sp.x[a];
+  const double d = rho.norm();
+  const Vec3 n = rho / d;
+  const double la = (sp.s[a] * sp.s[a] - sp.s[b] * sp.s[b] + d * d) / (2.0 * d), lb = d - la;
+  const Vec3 uh = sp.v[b] - sp.v[a] - lb * sp.w[b].cross(n) - la * sp.w[a].cross(n);
+  const Vec3 dw = sp.w[b] - sp.w[a];
+  const Section q = section(b_.radius[k]);
+  // carry the shear force and bending moment with the bond frame, then increment
+  const FrameTransport tr(b_.n_old[k], n, sp.w[a] + sp.w[b], h);
+  Vec3 Fs = tr(b_.Fs[k]), Mb = tr(b_.Mb[k]);
+  b_.n_old[k] = n;
+  Fs += (b_.ks[k] * q.A * h) * (uh - uh.dot(n) * n);
+  const double dwn = dw.dot(n);
+  const double Mt = b_.Mt[k] + b_.ks[k] * q.J * dwn * h;
+  Mb += (b_.kn[k] * q.I * h) * (dw - dwn * n);
+  const double Fn = b_.kn[k] * q.A * (d - b_.length0[k]);
+  b_.Fs[k] = Fs;
+  b_.Mb[k] = Mb;
+  b_.Mt[k] = Mt;
+  const double rb = b_.radius[k];
+  const double sigma = Fn / q.A + Mb.norm() * rb / q.I;
+  const double tau = Fs.norm() / q.A + std::fabs(Mt) * rb / q.J;
+  if (sigma > b_.sigma_c[k] || tau > b_.tau_c[k]) {
+    b_.released += (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
+                   (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
+    b_.broken[k] = 1;
+    ++breaks_;
+    b_.Fs[k].setZero();
+    b_.Mb[k].setZero();
+    b_.Mt[k] = 0.0;
+    return;
+  }
+  const Vec3 f = Fn * n + Fs;
+  const Vec3 nxF = n.cross(Fs);
+  F[a] += f;
+  F[b] -= f;
+  T[a] += la * nxF + Mt * n + Mb;
+  T[b] += lb * nxF - Mt * n - Mb;
 }
 
 double BondSystem::elastic_energy(const Spheres& sp) const {
@@ -186,6 +215,21 @@ double BondSystem::elastic_energy(const Spheres& sp) const {
     if (b_.ks[k] > 0) e += b_.Fs[k].squaredNorm() / (2.0 * b_.ks[k] * q.A) + b_.Mt[k] * b_.Mt[k] / (2.0 * b_.ks[k] * q.J);
   }
   return e;
+}
+
+double BondSystem::energy(std::size_t k, const Spheres& sp) const {
+  if (b_.broken[k]) return 0.0;
+  const Section q = section(b_.radius[k]);
+  const double Fn = b_.kn[k] * q.A * ((sp.x[ib_[k]] - sp.x[ia_[k]]).norm() - b_.length0[k]);
+  double e = 0.0;
+  if (b_.kn[k] > 0) e += Fn * Fn / (2.0 * b_.kn[k] * q.A) + b_.Mb[k].squaredNorm() / (2.0 * b_.kn[k] * q.I);
+  if (b_.ks[k] > 0) e += b_.Fs[k].squaredNorm() / (2.0 * b_.ks[k] * q.A) + b_.Mt[k] * b_.Mt[k] / (2.0 * b_.ks[k] * q.J);
+  return e;
+}
+
+double BondSystem::mode_time(std::size_t k, const Spheres& sp) const {
+  const std::uint32_t a = ia_[k], b = ib_[k];
+  return bond_time(b_, k, sp.m[a], sp.m[b], sp.s[a], sp.s[b]);
 }
 
 double BondSystem::bytes_per_sphere(std::size_t n) const {

@@ -27,7 +27,10 @@ PairClock::PairClock(const ContactParams& p, double base_dt, double steps_per_co
 }
 
 int PairClock::level(double mu, double R) const {
-  const double tc = lin_ > 0.0 ? lin_ * std::sqrt(mu) : p_.contact_time(mu, R);
+  return level_of_time(lin_ > 0.0 ? lin_ * std::sqrt(mu) : p_.contact_time(mu, R));
+}
+
+int PairClock::level_of_time(double tc) const {
   const double r = tc / unit_;
   if (!(r >= 2.0)) return 0;  // also NaN
   if (!(r < 0x1p30)) return std::min(std::ilogb(r), lmax_);
@@ -51,8 +54,6 @@ std::string LevelStats::histogram_text() const {
 
 void Simulation::setup_multirate(const SimState* st) {
   if (!cfg_.multirate) return;
-  if (bonds_)
-    throw common::InputError("time.multirate: bonds are not supported with multi-rate steps; set time.multirate = false");
   if (!(cfg_.pair_steps_per_contact > 0.0))
     throw common::InputError("time.steps_per_contact must be > 0");
   cfg_.gravity_every = floor_pow2(std::max(cfg_.gravity_every, 1));
@@ -73,6 +74,7 @@ void Simulation::setup_multirate(const SimState* st) {
     contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
     near_gap_ = 0.5 * contacts_->skin();
     clock_ = PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel);
+    if (bonds_) setup_bond_levels();  // bonds need contacts
   }
 }
 
@@ -120,6 +122,7 @@ void Simulation::assign_levels(int tz, int L) {
       for (std::uint32_t q = rj[i]; q < rj[i + 1] && c > 0; ++q)
         if (near_pair(pi[jp[q]], i)) c = std::min(c, pair_level(pi[jp[q]], i));
       if (walls && c > 0) c = std::min(c, wall_level(i));
+      if (bonds_ && c > 0) c = bond_cap(i, c);
     }
     level_[k] = static_cast<std::uint8_t>(c);
   }
@@ -180,6 +183,7 @@ void Simulation::equalise_levels(int tz) {
       if (m < t && near_pair(j, i)) t = m;
     }
     if (walls && t > 0) t = std::min(t, wall_level(i));
+    if (bonds_ && t > 0) t = bond_bound(i, t);
     lnew_[k] = static_cast<std::uint8_t>(t);
   }
   for (std::uint32_t i = 0; i < n; ++i)
@@ -190,6 +194,7 @@ void Simulation::equalise_levels(int tz) {
     for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) enforce(k, pj[p]);
     for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) enforce(pi[jp[q]], k);
     if (walls && level_[k] > 0) lower_level(k, wall_level(k), tz, work_);
+    if (bonds_) enforce_bonds(k, tz);
   }
 }
 
@@ -291,6 +296,8 @@ void Simulation::multirate_forces() {
       }
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_);
     }
+    // bonds of synchronised spheres (both ends always together), each with its spheres' step
+    if (bonds_) bonds_->compute_synchronised(sp_, sync_, topen_, step_, h, F_, T_);
   }
   accelerations(active_.data(), na);
 }
@@ -342,6 +349,7 @@ void Simulation::step_multirate() {
     sync_[i] = level_[i] <= tz ? 1 : 0;
     promoted_[i] = 0;
   }
+  if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
   assign_levels(tz, L);
   equalise_levels(tz);
   active_.clear();

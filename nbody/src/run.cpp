@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "common/atomic_file.hpp"
 #include "common/finite.hpp"
@@ -137,6 +138,13 @@ std::string levels_report(const Simulation& sim) {
      << static_cast<double>(l.evaluations) / std::max<double>(1.0, static_cast<double>(sim.times().steps) *
                                                                       static_cast<double>(sim.spheres().size()))
      << " of single-rate)";
+  if (!sim.bond_levels().empty()) {  // the bonds' own levels l_b (multirate_bonds.cpp)
+    std::vector<std::int64_t> h(64, 0);
+    for (std::uint8_t b : sim.bond_levels()) ++h[b];
+    os << "; bond levels l_b";
+    for (std::size_t k = 0; k < h.size(); ++k)
+      if (h[k] > 0) os << " l" << k << ":" << h[k];
+  }
   return os.str();
 }
 

@@ -10,8 +10,17 @@ Bond stiffness: k_n A of every bond equals the contact stiffness k_n the kinetic
 the bonds-off run (run_info.txt), k_s = k_n / 2.5, so the bonds leave the time step as it is;
 the strengths sigma_c = tau_c are the study's variable (scaled by the damage law).
 
+N-body method (--method): "paper" (default) runs the family's reaccumulation scene as the pipeline
+does (reaccumulate.toml: multi-rate block steps, >= 20 steps per contact and per bond mode,
+error-controlled gravity cadence; the paper family also drops fragments > 1 km/s at the hand-off
+like the pipeline, HANDOFF_MAX_SPEED); "single-rate" the study's former settings (single rate,
+gravity every 10 steps, 4 steps per contact; debris_bench.SINGLE_RATE).
+
 usage: bonds_study.py FAMILY RUN_DIR OUT_DIR BUILD_DIR [--variants a,b,...] [--cost-rounds K]
+                      [--method paper|single-rate] [--coarsen C]
   FAMILY: paper (the demo impact, pipelines/impact/reaccumulate.toml) or dart (dart/reaccumulate.toml)
+  --coarsen: MPM cells per sphere edge at the hand-off (default the family's: paper 3 for the
+  1 km-cell run, use 1 for the 2 km-cell demo as the demo's own hand-off)
 With SUITE_LOCK set (shared machines), each variant and each cost run holds that lock file (flock).
 """
 import argparse
@@ -39,14 +48,15 @@ FAMILIES = {
     # cohesion strength used in the "coh" variants
     "paper": dict(scene="pipelines/impact/reaccumulate.toml", coarsen=3, radius=12500.0, end=3600.0,
                   times=[60.0, 150.0, 300.0, 600.0, 1200.0, 1800.0, 2700.0, 3600.0],
-                  # the study's (pre-paper-method) N-body: single rate (bonds are refused with
-                  # multi-rate), gravity every 10 steps, 4 steps per contact
+                  # --method single-rate: the study's former N-body (single rate, gravity every
+                  # 10 steps, 4 steps per contact); --method paper: the scene as it is
                   nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4", *SINGLE_RATE],
-                  handoff_sets=[], cohesion=1e5, sigma=(1e6, 1e7)),
+                  handoff_sets=[], paper_handoff_sets=["select.max_speed=1000"], cohesion=1e5, sigma=(1e6, 1e7)),
     "dart": dict(scene="pipelines/impact/dart/reaccumulate.toml", coarsen=2, radius=80.0, end=1800.0,
                  times=[30.0, 60.0, 150.0, 300.0, 900.0, 1800.0],
                  nbody_sets=["time.steps_per_contact=4", "time.min_steps_per_contact=4"],
-                 handoff_sets=["select.max_speed=1000"], cohesion=5.0, sigma=(1e4, 1e5)),
+                 handoff_sets=["select.max_speed=1000"], paper_handoff_sets=["select.max_speed=1000"], cohesion=5.0,
+                 sigma=(1e4, 1e5)),
 }
 
 # name: (bonds: None or (damage_critical, index of the family's strength sigma_c = tau_c: 0 low, 1 high),
@@ -176,8 +186,23 @@ def main():
     ap.add_argument("--cost-rounds", type=int, default=2)
     ap.add_argument("--cost-time", type=float, default=600.0)
     ap.add_argument("--old-exe", help="previous ssdem-grav: its bonds-off cost and peak memory beside the new one's")
+    ap.add_argument("--method", choices=["paper", "single-rate"], default="paper",
+                    help="paper: the family's reaccumulation scene as the pipeline runs it (multi-rate); "
+                         "single-rate: the study's former settings")
+    ap.add_argument("--coarsen", type=int, help="hand-off coarsening (default: the family's)")
+    ap.add_argument("--end", type=float, help="N-body end time [s] (default the family's; snapshots up to it)")
+    ap.add_argument("--cost-only", action="store_true",
+                    help="only the cost rounds, on the hand-offs and results of an earlier run into OUT_DIR")
     a = ap.parse_args()
-    fam = FAMILIES[a.family]
+    fam = dict(FAMILIES[a.family])
+    if a.method == "paper":
+        fam["nbody_sets"] = []
+        fam["handoff_sets"] = fam["paper_handoff_sets"]
+    if a.coarsen:
+        fam["coarsen"] = a.coarsen
+    if a.end:
+        fam["times"] = [t for t in fam["times"] if t < a.end] + [a.end]
+        fam["end"] = a.end
     frag = os.path.join(a.run, "fragment")
     os.makedirs(a.out, exist_ok=True)
     res = {}
@@ -185,7 +210,11 @@ def main():
     names = a.variants.split(",")
     if "base" in names:
         names.remove("base")
-    for name in ["base"] + names:
+    if a.cost_only:
+        with open(os.path.join(a.out, "bonds_study.json")) as f:
+            res = json.load(f)
+        kn_bond = res["_bond_kn"]
+    for name in [] if a.cost_only else ["base"] + names:
         bond_cfg, coh = VARIANTS[name]
         vdir = os.path.join(a.out, name)
         os.makedirs(vdir, exist_ok=True)
@@ -215,6 +244,11 @@ def main():
                          broken_final=None if br is None else int(br[-1]))
         print(f"{name}: {nsph} spheres, {nbonds} bonds, M_LR/M_PB {final['M_LR_over_M_PB']:.4f}, "
               f"beta {final['beta']:.4f}, escaping {final['escaping_mass_fraction']:.4f}, wall {wall:.1f} s", flush=True)
+        res["_bond_kn"] = kn_bond
+        done = [n for n in names if n in res]
+        with open(os.path.join(a.out, "bonds_study.json"), "w") as f:  # after every variant
+            json.dump(res, f, indent=1)
+        write_table(a, fam, res, done, quiet=True)
     res["_bond_kn"] = kn_bond
 
     # Cost per sphere-step, bonds off and on interleaved (one thread, cost_time of N-body each).
@@ -245,8 +279,11 @@ def main():
     plot(a, res, ["base"] + names)
 
 
-def write_table(a, fam, res, names):
+def write_table(a, fam, res, names, quiet=False):
     lines = [f"# Bonds and cohesion: {a.family} family ({a.run})", "",
+             f"N-body to {fam['end']:g} s, method: {a.method} ({'the scene as the pipeline runs it: multi-rate' if a.method == 'paper' else 'single rate'}; "
+             f"sets {' '.join(fam['nbody_sets']) or 'none'}); hand-off coarsen {fam['coarsen']}, sets "
+             f"{' '.join(fam['handoff_sets']) or 'none'}.", "",
              f"Bond stiffness k_n = {res['_bond_kn']:.4g} N/m^3 (k_n A = the contact k_n), k_s = k_n / 2.5; "
              f"cohesion {fam['cohesion']:g} Pa where on.", "",
              "| variant | spheres | bonds | sigma_c = tau_c [Pa] | mean damage factor | broken at end | released J (/ E0) | M_LR/M_PB | beta | "
@@ -278,7 +315,8 @@ def write_table(a, fam, res, names):
                           f"{c['base']['median'] / c['base-old']['median']:.3f}."]
     with open(os.path.join(a.out, "bonds_study.md"), "w") as f:
         f.write("\n".join(lines) + "\n")
-    print("\n".join(lines))
+    if not quiet:
+        print("\n".join(lines))
 
 
 def plot(a, res, names):

@@ -122,13 +122,25 @@ BONDS_DART_RUN ?= $(RUNS)/dart-demo
 # with the new binary's ("no bonds, no cost").
 BONDS_OLD ?=
 BONDS_VARIANTS ?= base,bonds-Dc0.125-hi,bonds-Dc1-lo,bonds-Dc1-hi,coh,bonds-Dc1-hi+coh
+# BONDS_METHOD: paper (default: reaccumulate.toml as the pipeline runs it, multi-rate, fragments
+# > 1 km/s dropped at the hand-off) or single-rate (the study's former settings: single rate,
+# gravity every 10 steps, 4 steps per contact). BONDS_COARSEN: hand-off coarsening (3 for the 1 km
+# run; 1 for the 2 km demo, `BONDS_RUN=$(RUNS)/demo BONDS_COARSEN=1`). The DART family keeps its
+# scene's single-rate settings (dart/reaccumulate.toml has no multi-rate yet).
+BONDS_METHOD ?= paper
+BONDS_OUT ?= $(RUNS)/nbody-bonds-study/paper$(if $(filter single-rate,$(BONDS_METHOD)),-single-rate)
+BONDS_COARSEN ?= 3
+# BONDS_ARGS: more bonds_study.py options, e.g. "--end 600 --cost-rounds 3 --cost-time 300"
+BONDS_ARGS ?=
 .PHONY: nbody-bonds-study nbody-bonds-study-dart
-nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact: M_LR/M_PB, beta, ejecta and broken bonds vs time, cost (~3 min)
+nbody-bonds-study: tools ## bonds and cohesion on/off on the demo impact with the paper's method (multi-rate): M_LR/M_PB, beta, ejecta and broken bonds vs time, cost
 	@test -f $(BONDS_RUN)/fragment/final.h5 || { echo "no $(BONDS_RUN)/fragment/final.h5: run make -C pipelines nbody-debris-scenes first"; exit 1; }
-	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(RUNS)/nbody-bonds-study/paper $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
+	$(PY) $(NBODY_DIR)/bonds_study.py paper $(BONDS_RUN) $(BONDS_OUT) $(BUILD) --variants $(BONDS_VARIANTS) \
+	  --method $(BONDS_METHOD) --coarsen $(BONDS_COARSEN) $(BONDS_ARGS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
 nbody-bonds-study-dart: tools ## the same on the DART-like family (dart-demo's MPM output; ~15 min)
 	@test -f $(BONDS_DART_RUN)/fragment/final.h5 || { echo "no $(BONDS_DART_RUN)/fragment/final.h5: run make -C pipelines dart-demo first"; exit 1; }
-	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
+	$(PY) $(NBODY_DIR)/bonds_study.py dart $(BONDS_DART_RUN) $(RUNS)/nbody-bonds-study/dart $(BUILD) --variants $(BONDS_VARIANTS) \
+	  --method single-rate $(if $(BONDS_OLD),--old-exe $(BONDS_OLD))
 
 # nbody-bonds-momentum (issue 18): where the beta of a bonded remnant comes from (bonds_momentum.py,
 # seconds; after nbody-bonds-study-dart): the bonded components of the study's bonds-Dc1-hi variant

@@ -3,7 +3,8 @@
 /// fragment through a pile follow the single-rate trajectories bit for bit (their pairs are on
 /// the base level and a promotion in space is exact), a heavy pair on a coarse level rebounds
 /// with the restitution of its own step count, contacts create no energy, restarts (also
-/// through a checkpoint file) and thread counts do not change results.
+/// through a checkpoint file) and thread counts do not change results; a cohesive pair on level
+/// 2 pulls off at the cohesive threshold like single rate at its step.
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -232,4 +233,52 @@ TEST(Multirate, IndependentOfThreadCount) {
   }
   omp_set_num_threads(2);
   EXPECT_EQ(differing(out[0], out[1]), 0u);
+}
+
+TEST(Multirate, CohesivePullOffAtItsPairLevel) {
+  // Cohesion (contact/cohesion.hpp) acts only in contact, inside the pair's level: two cohesive
+  // spheres at the equilibrium overlap x_eq = F_c / k_n given relative speed f v_c apart
+  // (v_c = F_c / sqrt(mu k_n)) separate iff f > 1, on level 2 as in single rate. The pair steps at
+  // 4 h = tau_c / 418.7 (r = tau_c / (N h) = 4.5; 837 steps per period as in test_nbody_cohesion,
+  // whose first-order error at the force jump is below 2 %); its exit speed must be the energy value
+  // sqrt(f^2 - 1) v_c to 2 % and equal single-rate stepping at 4 h to 1e-3 (the same step grid
+  // after the start, where the levels coarsen at their first synchronisations).
+  const double s1 = 0.5, s2 = 0.8, rho = 2000, kn = 2e5, sigma = 400.0, beta = 0.5;
+  const double m1 = rho * 4.0 / 3.0 * M_PI * std::pow(s1, 3), m2 = rho * 4.0 / 3.0 * M_PI * std::pow(s2, 3);
+  const double mu = m1 * m2 / (m1 + m2), Rbar = s1 * s2 / (s1 + s2);
+  const double Fc = sigma * M_PI * beta * beta * Rbar * Rbar, xeq = Fc / kn, vc = Fc / std::sqrt(mu * kn);
+  const double tau = M_PI * std::sqrt(mu / kn), h = tau / (372.1 * 4.5);
+  auto run = [&](double f, bool multirate, std::uint8_t* level) {
+    const double v = f * vc;
+    Spheres sp;
+    sp.push(0, Vec3(0, 0, 0), Vec3(-v * m2 / (m1 + m2), 0, 0), Vec3::Zero(), m1, s1);
+    sp.push(1, Vec3(s1 + s2 - xeq, 0, 0), Vec3(v * m1 / (m1 + m2), 0, 0), Vec3::Zero(), m2, s2);
+    SimConfig c;
+    c.contacts = true;
+    c.contact.parts = kPartCohesion;
+    c.contact.kn = kn;
+    c.contact.sigma_c = sigma;
+    c.contact.beta = beta;
+    c.dt = multirate ? h : 4 * h;
+    c.multirate = multirate;
+    c.pair_steps_per_contact = 372.1;
+    c.gravity_every = multirate ? 64 : 1;
+    Simulation sim(sp, c);
+    bool apart = false;
+    const int n = multirate ? 64 * 200 : 16 * 200;
+    for (int k = 0; k < n; ++k) {
+      sim.step();
+      if (level && k == 63) *level = sim.levels()[0];
+      apart = apart || (sim.spheres().x[1] - sim.spheres().x[0]).norm() > s1 + s2;
+    }
+    return apart ? (sim.spheres().v[1] - sim.spheres().v[0]).norm() / vc : 0.0;
+  };
+  std::uint8_t level = 255;
+  const double below = run(0.97, true, &level), above = run(1.03, true, nullptr), ref = run(1.03, false, nullptr);
+  std::printf("cohesive pull-off on level %d: f = 0.97 exit %.4f, f = 1.03 exit %.5f v_c (energy %.5f, single rate "
+              "at 4 h %.5f)\n", level, below, above, std::sqrt(1.03 * 1.03 - 1.0), ref);
+  EXPECT_EQ(level, 2);
+  EXPECT_EQ(below, 0.0);
+  EXPECT_NEAR(above / std::sqrt(1.03 * 1.03 - 1.0), 1.0, 0.02);
+  EXPECT_NEAR(above / ref, 1.0, 1e-3);
 }

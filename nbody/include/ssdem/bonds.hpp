@@ -85,8 +85,24 @@ class BondSystem {
   /// Add the bond forces and torques to F and T (serial, in bond order: deterministic);
   /// break the bonds whose stress exceeds their strength. h: step; sp.v / sp.w half-step.
   void compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T);
+  /// Multi-rate steps (multirate.hpp): the same for the bonds whose two spheres are both
+  /// synchronised (sync[i] != 0), each with the step of its spheres, (step - topen[a]) dt; in bond
+  /// order. std::logic_error if an intact bond has only one synchronised sphere (the level rule
+  /// keeps both ends of every intact bond on one level).
+  void compute_synchronised(const Spheres& sp, const std::vector<std::uint8_t>& sync,
+                            const std::vector<std::int64_t>& topen, std::int64_t step, double dt,
+                            std::vector<Vec3>& F, std::vector<Vec3>& T);
   /// Elastic energy stored in the intact bonds [J].
   double elastic_energy(const Spheres& sp) const;
+  /// Elastic energy stored in bond k [J] (0 once broken).
+  double energy(std::size_t k, const Spheres& sp) const;
+  /// Shortest mode half-period of bond k [s] (the dt rule's bond time; INFINITY if kn = ks = 0).
+  double mode_time(std::size_t k, const Spheres& sp) const;
+  /// Sphere indices of the bonds' ends (resolved from the ids).
+  const std::vector<std::uint32_t>& index_a() const { return ia_; }
+  const std::vector<std::uint32_t>& index_b() const { return ib_; }
+  /// Number of bonds broken by this BondSystem so far (changes when a bond breaks).
+  std::size_t breaks() const { return breaks_; }
   const BondSet& bonds() const { return b_; }
   std::size_t broken_count() const { return b_.broken_count(); }
   double released_energy() const { return b_.released; }
@@ -95,6 +111,10 @@ class BondSystem {
  private:
   BondSet b_;
   std::vector<std::uint32_t> ia_, ib_;
+  std::vector<std::uint32_t> live_;  ///< intact bonds, ascending (rebuilt after a break)
+  std::size_t breaks_ = 0, live_at_ = SIZE_MAX;  ///< breaks so far; breaks_ when live_ was built
+  void refresh_live();
+  void compute_one(std::size_t k, const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T);
 };
 
 }  // namespace ssdem

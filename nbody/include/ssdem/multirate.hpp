@@ -37,6 +37,30 @@
 /// l_c of the pair, and both are evaluated together: contact forces act on synchronised spheres
 /// only, pairwise antisymmetric (momentum exact) and each contact is a plain KDK at its level's
 /// step.
+/// Bonds (bonds.hpp; multirate_bonds.cpp). Every intact bond is a permanent near pair, whatever
+/// its gap, with its own level
+///   l_b = max(0, floor(log2(tau_b / (N h)))),  tau_b = min(pi sqrt(mu / (k_n A)),
+///         pi sqrt(mu / (k_s A)), pi sqrt(I_r / (k_n I)), pi sqrt(I_r / (k_s J)))
+/// (mu, I_r: the two spheres' reduced mass and moment of inertia; the shortest mode half-period of
+/// the bond dt rule, which sets h with the contacts: h = min(tau_c, tau_b) / N when time.dt = 0,
+/// so the stiffest bond is on level 0). It enters both rules like a near pair: the new level of a
+/// synchronised sphere is also <= l_b of its intact bonds, and the equalisation sets both ends of
+/// every intact bond to min(l_a, l_b-end, l_b). So both ends of a bond are always on one level
+/// <= l_b, open and close together (the same opening step), and the bond force and torque act
+/// only when both are synchronised, pairwise (momentum and angular momentum as in single rate),
+/// each bond a plain KDK at its level's step h_l >= tau_b / (2N): its increments use the half-step
+/// velocities and spins over the spheres' own step (BondSystem::compute_synchronised). A bond that
+/// breaks does so at one of its level's steps (the first at which its stress exceeds its
+/// strength), its stored energy goes to the released account as in single rate, and it stops
+/// constraining the levels at the next level decision. l_b depends only on the bond and the two
+/// spheres, so it is computed once per Simulation (also after a restart: same values).
+/// Cohesion (contact/cohesion.hpp) is a constant force F_c = sigma_c pi (beta Rbar)^2 while the
+/// spheres overlap: it has no stiffness of its own and acts only in contact, i.e. inside the
+/// contact pair's level; its time scale enters through k_n, which the scene's k_n rule raises to
+/// >= F_c / x_max (scene_setup.cpp), hence through tau_c and l_c. Its force jump at touch and
+/// separation is first order in the pair's step (cohesion.hpp), resolved like single rate at N
+/// steps per contact (test_nbody_multirate: a cohesive pair on level 2 pulls off at the threshold
+/// with the exit speed of single rate at its step, 1e-3).
 /// Reach rule (no tunnelling). Positions are synchronised at every base step and the near test
 /// runs at every base step for all spheres, whatever their level: a sphere's displacement before
 /// the next test is at most |v| h, the same as in single-rate stepping at the base step. A pair
@@ -55,9 +79,10 @@
 /// The extrapolated dashpot predictor (simulation.hpp) extrapolates over the sphere's previous
 /// step; after a level change (previous step length differs) that one step uses the pkdgrav
 /// predictor.
-/// Limits. All spheres of a cluster of near pairs share the finest level of its pairs (a pile
-/// steps at the step of its lightest contact; only separate clusters and lone spheres gain).
-/// Bonds are not supported with multi-rate steps (refused, exit 2).
+/// Limits. All spheres of a cluster of near pairs and bonds share the finest level of its pairs
+/// and bonds (a pile steps at the step of its lightest contact, a bonded body at that of its
+/// stiffest bond or contact; only separate clusters and lone spheres gain). Without bonds no bond
+/// arrays exist and the rules are unchanged.
 /// Ownership (for a domain decomposition): a sphere's level, opening time and previous step are
 /// per-sphere arrays (SimState::level etc.) exchanged with the sphere; the level rule needs only
 /// the sphere's near partners (gap < k/2, inside any halo of width >= the skin), the
@@ -80,6 +105,8 @@ class PairClock {
   PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax);
   /// reduced mass mu [kg], reduced radius R [m]
   int level(double mu, double R) const;
+  /// max(0, floor(log2(tc / (N h)))), at most lmax: the level of an oscillation of half-period tc
+  int level_of_time(double tc) const;
 
  private:
   ContactParams p_;

@@ -144,6 +144,8 @@ class Simulation {
   /// Multi-rate levels (empty arrays in single-rate runs).
   const LevelStats& level_stats() const { return lstats_; }
   const std::vector<std::uint8_t>& levels() const { return level_; }
+  /// Multi-rate level l_b of each bond (empty without bonds or in single-rate runs).
+  const std::vector<std::uint8_t>& bond_levels() const { return blevel_; }
   void run(std::int64_t nsteps) {
     for (std::int64_t k = 0; k < nsteps; ++k) step();
   }
@@ -192,6 +194,15 @@ class Simulation {
   int pair_level(std::uint32_t i, std::uint32_t j) const;
   int wall_level(std::uint32_t i) const;  ///< level of i's nearest-wall constraint (255: none near)
   void multirate_forces();
+  // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
+  void setup_bond_levels();
+  void bond_index();
+  int bond_cap(std::uint32_t i, int c) const;
+  int bond_bound(std::uint32_t i, int t) const;
+  void enforce_bonds(std::uint32_t i, int tz);
+  std::vector<std::uint8_t> blevel_;        ///< level l_b of each bond
+  std::vector<std::uint32_t> brow_, badj_, bfill_;  ///< CSR: the intact bonds of each sphere (ascending)
+  std::size_t bond_breaks_seen_ = 0;               ///< BondSystem::breaks() when the CSR was built
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
   std::vector<std::uint8_t> level_, sync_, promoted_, lnew_;
