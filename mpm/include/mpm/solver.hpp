@@ -40,6 +40,16 @@
 /// energy, artificial viscosity),
 /// outflow.cpp, diagnostics.cpp; shared kernels in kernels.hpp. Scene names of the choices are the
 /// tables kSchemes and kBoundaryTypes below.
+///
+/// Subdomains (MPI domain decomposition, mpm/mpi/domain.hpp): a Solver may hold only a box of the
+/// global grid (Subdomain: global index `lo` of its node 0 and its node `shape`) and the particles
+/// whose stencils lie in it. Weights are still computed against the global grid origin (stencil
+/// node indices are global; the local index is the global one minus Subdomain::lo, one constant
+/// `shift_` per linear index), so a particle's weights do not depend on the decomposition. The
+/// GridExchange completes the nodal sums of nodes shared with other processes after every P2G
+/// pass and reduces the few scalars the step needs (dt, m_min, failures) over all processes.
+/// Without a Subdomain (the serial build and mpm-frag) the box is the whole grid and nothing is
+/// exchanged; the serial library contains no MPI code.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -62,6 +72,16 @@ struct ParticleSnapshot;  // common/particle_file.hpp (include it to call Solver
 }
 
 namespace mpmfrag {
+
+class GridExchange;  // below
+
+/// The box of the global grid that one process of a domain decomposition holds (see the file
+/// comment). Default (exchange == nullptr): the whole grid, no exchange.
+struct Subdomain {
+  Eigen::Vector3i lo = Eigen::Vector3i::Zero();     ///< global index of local node (0,0,0)
+  Eigen::Vector3i shape = Eigen::Vector3i::Zero();  ///< local nodes per axis
+  GridExchange* exchange = nullptr;                 ///< completes shared nodes, global reductions
+};
 
 /// Stress-update order.
 enum class Scheme { usl, usf, musl, midpoint };
@@ -166,8 +186,10 @@ class Solver {
  public:
   /// `materials[m]` holds the particles [begin, end) with ParticleSet::material == m; the state
   /// arrays are allocated here. Throws common::InputError on inconsistent input.
+  /// `sub`: hold only a box of `grid` (domain decomposition; then a process may have no
+  /// particles, drives and outflow_remove are refused with common::InputError).
   Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
-         std::vector<MaterialSlot> materials);
+         std::vector<MaterialSlot> materials, Subdomain sub = {});
 
   /// Initial stress and wave speeds (material initialize); call once before step().
   void initialize();
@@ -191,7 +213,15 @@ class Solver {
   const ParticleSet& particles() const { return ps_; }
   ParticleSet& particles_mutable() { return ps_; }
   const std::vector<MaterialSlot>& materials() const { return mats_; }
+  /// The global grid (a subdomain holds the box subdomain() of it).
   const common::GridInfo& grid() const { return grid_; }
+  const Subdomain& subdomain() const { return sub_; }
+  /// Domain decomposition: move to another box of the same global grid (rebalancing), between
+  /// steps; every particle's stencil must lie in the new box (the caller migrates first).
+  void set_subdomain(const Subdomain& sub);
+  /// Domain decomposition: replace the particles and material state (after migration). Each
+  /// material's particles must be contiguous (MaterialSlot ranges) and their state arrays sized.
+  void replace_particles(ParticleSet particles, std::vector<MaterialSlot> materials);
   const SolverConfig& config() const { return cfg_; }
   void set_body_force(BodyForce f) { body_force_ = std::move(f); }
   /// Velocity-driven bodies (body_drive.hpp): set before initialize() or resume(). Sets the
@@ -278,8 +308,15 @@ class Solver {
   void run_material_chunk(std::size_t c, double dt, const double* L, double* wpre, double* ws, double* bs,
                           const double* econs = nullptr);
 
+  /// Largest value over all processes (the local value without a GridExchange).
+  double global_max(double v) const;
+  /// Whether any process has `local` set (collective with a GridExchange).
+  bool any_process(bool local) const { return global_max(local ? 1.0 : 0.0) > 0.0; }
+
   SolverConfig cfg_;
-  common::GridInfo grid_;
+  common::GridInfo grid_;  ///< the global grid
+  Subdomain sub_;          ///< the box held (the whole grid when serial)
+  std::size_t shift_ = 0;  ///< global linear node index of local node 0 (stencil base - shift_)
   ParticleSet ps_;
   std::vector<MaterialSlot> mats_;
   std::vector<Node> nodes_;
@@ -322,6 +359,19 @@ class Solver {
   std::vector<common::Field> out_fields_;  ///< output state fields of the removed particles
   std::vector<double> out_init_;        ///< initial value of each of those fields
   Diagnostics out_diag_;                ///< their totals (constant in ballistic flight)
+};
+
+/// Communication of a Solver that holds a Subdomain (implemented in mpm/mpi/ for MPI; the serial
+/// library only calls it). Every method is collective over the processes of the decomposition.
+class GridExchange {
+ public:
+  virtual ~GridExchange() = default;
+  /// After a P2G pass: make every node that other processes also hold carry the complete sum
+  /// over all processes of the fields `fields` (OR of 1 mass, 2 momentum, 4 force: the P2G
+  /// bits of the step), identical in every bit on every process that holds the node.
+  virtual void sum_shared(Solver::Node* nodes, int fields) = 0;
+  /// Element-wise maximum over all processes of v[0..n), in place.
+  virtual void max(double* v, int n) = 0;
 };
 
 }  // namespace mpmfrag

@@ -43,8 +43,8 @@ void Solver::bin() {
     bool ok = true, finite = true;
     for (int d = 0; d < 3; ++d) {
       const AxisWeights a = axis_weights(cfg_.shape, x[3 * p + d], grid_.origin[d], grid_.cell_size[d], lp[3 * p + d]);
-      f[d] = a.first;
-      if (!(a.first >= 0 && a.first + NPA <= grid_.shape[d])) ok = false;
+      f[d] = a.first - sub_.lo[d];  // index in the box held (the whole grid when serial)
+      if (!(f[d] >= 0 && f[d] + NPA <= sub_.shape[d])) ok = false;
       if (!std::isfinite(x[3 * p + d])) finite = ok = false;
     }
     if (!ok) {

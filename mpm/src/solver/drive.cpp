@@ -24,6 +24,8 @@ constexpr double kMinWeight = 1e-9;
 }  // namespace
 
 void Solver::set_drives(std::vector<BodyDrive> drives) {
+  if (sub_.exchange && !drives.empty())
+    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
   for (std::size_t a = 0; a < drives.size(); ++a) {
     if (drives[a].id_end <= drives[a].id_begin)
       throw common::InputError("drive of body " + std::to_string(drives[a].body) + " holds no particle");
@@ -53,14 +55,14 @@ void Solver::drive_prepare() {
   }
   std::vector<Eigen::Vector3d> vt(drives_.size());
   for (std::size_t k = 0; k < drives_.size(); ++k) vt[k] = drives_[k].velocity_at(time_);
-  const int sx = grid_.shape[0], sy = grid_.shape[1];
+  const int sx = sub_.shape[0], sy = sub_.shape[1];
   std::vector<std::size_t>& touched = drive_nodes_[0];  // all nodes first, split below
   for (std::size_t p = 0; p < ps_.size(); ++p) {
     const int k = drive_of(ps_.id[p]);
     if (k < 0) continue;
     for (int d = 0; d < 3; ++d) ps_.v[3 * p + d] = vt[k][d];
     const Stencil s = particle_stencil(cfg_.shape, ps_.x.data() + 3 * p, ps_.half_width.data() + 3 * p, grid_.origin,
-                                       grid_.cell_size, sx, sy);
+                                       grid_.cell_size, sx, sy, shift_);
     for (int c = 0; c < s.Z.n; ++c) {
       if (!(s.Z.w[c] > kMinWeight)) continue;
       for (int b = 0; b < s.Y.n; ++b) {

@@ -68,10 +68,17 @@ void Solver::grid_integrate(double dt) {
 }
 
 void Solver::apply_bc(GridSlot which) {
+  // face planes in global node indices; a subdomain applies the layers inside its box (the
+  // mirror source of a symmetry layer must then be inside it too: mpm/mpi/slabs.hpp)
   const int S[3] = {grid_.shape[0], grid_.shape[1], grid_.shape[2]};
   const int g = cfg_.ghost_layers;
   const Node::Slot3 slot = Node::slot(which);
-  auto at = [&](int i, int j, int k) -> double* { return nodes_[node_index(grid_, i, j, k)].*slot; };
+  const Eigen::Vector3i lo = sub_.lo, ls = sub_.shape;
+  auto inside = [&](int d, int i) { return i >= lo[d] && i < lo[d] + ls[d]; };
+  auto at = [&](int i, int j, int k) -> double* {
+    return nodes_[static_cast<std::size_t>(i - lo[0]) +
+                  static_cast<std::size_t>(ls[0]) * (static_cast<std::size_t>(j - lo[1]) + static_cast<std::size_t>(ls[1]) * (k - lo[2]))].*slot;
+  };
   for (int d = 0; d < 3; ++d) {
     const int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
     for (int side = 0; side < 2; ++side) {
@@ -80,13 +87,14 @@ void Solver::apply_bc(GridSlot which) {
       const int plane = side == 0 ? g : S[d] - 1 - g;
       const int dir = side == 0 ? -1 : 1;  // outward
 #pragma omp parallel for schedule(static)
-      for (int a = 0; a < S[d1]; ++a) {
-        for (int b = 0; b < S[d2]; ++b) {
+      for (int a = lo[d1]; a < lo[d1] + ls[d1]; ++a) {
+        for (int b = lo[d2]; b < lo[d2] + ls[d2]; ++b) {
           int idx[3];
           idx[d1] = a;
           idx[d2] = b;
           for (int layer = 0; layer <= g; ++layer) {
             idx[d] = plane + dir * layer;
+            if (!inside(d, idx[d])) continue;
             double* vv = at(idx[0], idx[1], idx[2]);
             if (t == BoundaryType::fixed) {
               vv[0] = vv[1] = vv[2] = 0.0;

@@ -30,6 +30,7 @@ inline constexpr std::size_t kChunk = 256;      // particles per material batch
 inline constexpr std::size_t kReduceChunk = 4096;  // particles per chunk of a deterministic sum
 
 /// What a P2G pass accumulates (template argument MODE of Solver::scatter, OR-ed).
+/// The same bits name the fields of GridExchange::sum_shared (solver.hpp).
 enum P2G : int { kMass = 1, kMom = 2, kForce = 4 };
 /// What a G2P pass updates (template argument flags of Solver::g2p, OR-ed): particle velocity
 /// (FLIP blend), position, velocity gradient L (then F, volume and the material update).
@@ -47,15 +48,17 @@ struct Stencil {
 
 /// Stencil of the particle at x[0..2] with half-widths lp[0..2] on a grid with origin o, cell
 /// size h and sx x sy nodes per z-layer (no bounds check: bin() has checked every particle).
+/// A subdomain (Solver::shift_): the box's sx x sy layers, base minus the global linear index of
+/// the box's node 0 (modular size_t arithmetic: exact for every node inside the box).
 [[gnu::always_inline]] inline Stencil particle_stencil(ShapeKind kind, const double* x, const double* lp,
                                                        const Eigen::Vector3d& o, const Eigen::Vector3d& h,
-                                                       int sx, int sy) {
+                                                       int sx, int sy, std::size_t shift = 0) {
   Stencil s;
   s.X = axis_weights(kind, x[0], o[0], h[0], lp[0]);
   s.Y = axis_weights(kind, x[1], o[1], h[1], lp[1]);
   s.Z = axis_weights(kind, x[2], o[2], h[2], lp[2]);
   s.base = static_cast<std::size_t>(s.X.first) +
-           static_cast<std::size_t>(sx) * (s.Y.first + static_cast<std::size_t>(sy) * s.Z.first);
+           static_cast<std::size_t>(sx) * (s.Y.first + static_cast<std::size_t>(sy) * s.Z.first) - shift;
   return s;
 }
 

@@ -25,11 +25,13 @@ namespace mpmfrag {
 using namespace detail;
 
 Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
-               std::vector<MaterialSlot> materials)
+               std::vector<MaterialSlot> materials, Subdomain sub)
     : cfg_(std::move(cfg)), grid_(grid), ps_(std::move(particles)), mats_(std::move(materials)) {
   const std::size_t n = ps_.size();
-  if (n == 0) throw common::InputError("no particles in the scene");
+  if (n == 0 && !sub.exchange) throw common::InputError("no particles in the scene");
   if (n >= std::numeric_limits<std::uint32_t>::max()) throw common::InputError("too many particles (> 2^32)");
+  if (sub.exchange && cfg_.outflow_remove)
+    throw common::InputError("solver.outflow_remove is not available on more than one MPI rank yet");
   if (cfg_.artificial_viscosity && ps_.q.size() != n) ps_.q.assign(n, 0.0);
   if (!cfg_.artificial_viscosity) ps_.q.clear();
   for (std::size_t m = 0; m < mats_.size(); ++m) {
@@ -46,9 +48,47 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
     for (std::size_t p = 0; p < n; ++p)
       if (cfg_.shape == ShapeKind::ugimp && !(ps_.half_width[3 * p + d] > 0.0 && ps_.half_width[3 * p + d] <= 0.5 * grid_.cell_size[d] * (1 + 1e-12)))
         throw common::InputError("particle half-width must be in (0, h/2] (at least 1 particle per cell per axis)");
-  m_min_ = cfg_.min_mass_fraction * *std::min_element(ps_.mass.begin(), ps_.mass.end());
-  nodes_.assign(node_count(grid_), Node{});
-  for (int d = 0; d < 3; ++d) nblocks_[d] = (grid_.shape[d] + kBlock - 1) / kBlock;
+  sub_.exchange = sub.exchange;  // so that the smallest mass below is the global one
+  const double mmin = n ? *std::min_element(ps_.mass.begin(), ps_.mass.end()) : std::numeric_limits<double>::infinity();
+  m_min_ = cfg_.min_mass_fraction * -global_max(-mmin);
+  set_subdomain(sub);
+}
+
+void Solver::set_subdomain(const Subdomain& sub) {
+  sub_ = sub;
+  if (!sub_.exchange) {
+    sub_.lo.setZero();
+    sub_.shape = grid_.shape;
+  }
+  for (int d = 0; d < 3; ++d)
+    if (sub_.lo[d] < 0 || sub_.shape[d] < 1 || sub_.lo[d] + sub_.shape[d] > grid_.shape[d])
+      throw common::InputError("subdomain box outside the grid");
+  const std::size_t sx = sub_.shape[0], sy = sub_.shape[1];
+  shift_ = static_cast<std::size_t>(sub_.lo[0]) + sx * (static_cast<std::size_t>(sub_.lo[1]) + sy * sub_.lo[2]);
+  nodes_.assign(static_cast<std::size_t>(sub_.shape[0]) * sub_.shape[1] * sub_.shape[2], Node{});
+  mom2_.clear();
+  for (int d = 0; d < 3; ++d) nblocks_[d] = (sub_.shape[d] + kBlock - 1) / kBlock;
+}
+
+void Solver::replace_particles(ParticleSet particles, std::vector<MaterialSlot> materials) {
+  ps_ = std::move(particles);
+  mats_ = std::move(materials);
+  backup_.valid = false;  // the backup holds other particles now
+  for (std::size_t m = 0; m < mats_.size(); ++m) {
+    const MaterialSlot& s = mats_[m];
+    for (std::size_t p = s.begin; p < s.end; ++p)
+      if (ps_.material[p] != static_cast<std::int32_t>(m))
+        throw common::InputError("replace_particles: particles of material '" + s.name + "' are not contiguous");
+  }
+  build_chunks();
+  body_accel_.clear();
+  key_.clear();
+  order_.clear();
+}
+
+double Solver::global_max(double v) const {
+  if (sub_.exchange) sub_.exchange->max(&v, 1);
+  return v;
 }
 
 void Solver::initialize() {
@@ -64,12 +104,24 @@ void Solver::initialize() {
       hi = hi.cwiseMax(Eigen::Vector3d(ps_.x[3 * p], ps_.x[3 * p + 1], ps_.x[3 * p + 2]));
       dx = std::max(dx, std::cbrt(ps_.volume0[p]));
     }
-    m.extent = m.end > m.begin ? (hi - lo).maxCoeff() + dx : 0.0;
+    if (sub_.exchange) {  // the material's extent over all processes
+      double r[7] = {-lo[0], -lo[1], -lo[2], hi[0], hi[1], hi[2], dx};
+      sub_.exchange->max(r, 7);
+      lo = -Eigen::Vector3d(r[0], r[1], r[2]);
+      hi = Eigen::Vector3d(r[3], r[4], r[5]);
+      dx = r[6];
+      m.extent = hi[0] >= lo[0] ? (hi - lo).maxCoeff() + dx : 0.0;
+    } else {
+      m.extent = m.end > m.begin ? (hi - lo).maxCoeff() + dx : 0.0;
+    }
   }
   for (std::size_t c = 0; c < nch; ++c) run_material_chunk(c, 0.0, L.data(), wpre.data(), ws.data(), bs.data());
-  for (std::size_t c = 0; c < nch; ++c)
-    if (chunk_fail_[c]) throw SolverFailure("initial state invalid: " + chunk_msg_[c], true);
-  max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
+  std::size_t bad = nch;
+  for (std::size_t c = 0; c < nch && bad == nch; ++c)
+    if (chunk_fail_[c]) bad = c;
+  if (any_process(bad < nch))
+    throw SolverFailure("initial state invalid: " + (bad < nch ? chunk_msg_[bad] : std::string("on another MPI rank")), true);
+  max_speed_ = global_max(nch ? *std::max_element(chunk_speed_.begin(), chunk_speed_.end()) : 0.0);
 }
 
 double Solver::stable_dt() const {
@@ -119,9 +171,14 @@ void Solver::step(double dt) {
   const double t1 = time_ + dt;
   using Velocity = integral_constant<GridSlot, GridSlot::velocity>;
   using Updated = integral_constant<GridSlot, GridSlot::updated_velocity>;
+  // a subdomain: complete the sums of the nodes shared with other processes (GridExchange)
+  auto complete = [&](int fields) {
+    if (sub_.exchange) sub_.exchange->sum_shared(nodes_.data(), fields);
+  };
   switch (cfg_.scheme) {
     case Scheme::usl:
       scat(integral_constant<int, kMass | kMom | kForce>{});
+      complete(kMass | kMom | kForce);
       grid_velocity();
       bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
@@ -130,12 +187,14 @@ void Solver::step(double dt) {
       break;
     case Scheme::musl: {
       scat(integral_constant<int, kMass | kMom | kForce>{});
+      complete(kMass | kMom | kForce);
       grid_velocity();
       bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
       bc(GridSlot::updated_velocity, t1, 2);
       // fused: FLIP/PIC velocity update and re-projection of the new particle momenta
       lin ? musl_remap<2>() : musl_remap<3>();
+      complete(kMom);
       grid_velocity();
       bc(GridSlot::velocity, t1, 0);
       gather(integral_constant<int, kPos | kGrad>{}, Velocity{});
@@ -143,6 +202,7 @@ void Solver::step(double dt) {
     }
     case Scheme::midpoint:
       scat(integral_constant<int, kMass | kMom | kForce>{});
+      complete(kMass | kMom | kForce);
       grid_velocity();
       bc(GridSlot::velocity, time_, 1);
       grid_integrate(dt);
@@ -151,10 +211,12 @@ void Solver::step(double dt) {
       break;
     case Scheme::usf:
       scat(integral_constant<int, kMass | kMom>{});
+      complete(kMass | kMom);
       grid_velocity();
       bc(GridSlot::velocity, time_, 1);
       gather(integral_constant<int, kGrad>{}, Velocity{});
       scat(integral_constant<int, kForce>{});
+      complete(kForce);
       grid_integrate(dt);
       bc(GridSlot::updated_velocity, t1, 2);
       gather(integral_constant<int, kVel | kPos>{}, Updated{});

@@ -29,7 +29,8 @@ using namespace detail;
 // P2G scatter, 8 colour passes; MODE (detail::P2G) selects mass, momentum and/or force.
 template <int NPA, int MODE>
 void Solver::scatter() {
-  const int sx = grid_.shape[0], sy = grid_.shape[1];
+  const int sx = sub_.shape[0], sy = sub_.shape[1];
+  const std::size_t shift = shift_;
   const double* x = ps_.x.data();
   const double* v = ps_.v.data();
   const double* sg = ps_.stress.data();
@@ -47,7 +48,7 @@ void Solver::scatter() {
       const std::uint32_t b = blocks[ib];
       for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
         const std::size_t p = order_[k];
-        const Stencil st = particle_stencil(kind, x + 3 * p, lp + 3 * p, o, h, sx, sy);
+        const Stencil st = particle_stencil(kind, x + 3 * p, lp + 3 * p, o, h, sx, sy, shift);
         const AxisWeights &X = st.X, &Y = st.Y, &Z = st.Z;
         const double m = ps_.mass[p];
         double mv0 = 0, mv1 = 0, mv2 = 0;
@@ -129,7 +130,8 @@ void Solver::g2p(double dt) {
   constexpr bool kLfromMid = Lfrom == GridSlot::midpoint;
   constexpr bool kHeat = kLfromMid && (flags & kVel) != 0;       // energy-consistent scheme: transfer heat
   const ShapeKind kind = cfg_.shape;
-  const int sx = grid_.shape[0], sy = grid_.shape[1];
+  const int sx = sub_.shape[0], sy = sub_.shape[1];
+  const std::size_t shift = shift_;
   const Eigen::Vector3d o = grid_.origin, h = grid_.cell_size;
   const Node* nodes = nodes_.data();
   const double alpha = cfg_.flip;
@@ -146,7 +148,7 @@ void Solver::g2p(double dt) {
         double* xp = ps_.x.data() + 3 * p;
         double* vp = ps_.v.data() + 3 * p;
         const double* lp = ps_.half_width.data() + 3 * p;
-        const Stencil st = particle_stencil(kind, xp, lp, o, h, sx, sy);
+        const Stencil st = particle_stencil(kind, xp, lp, o, h, sx, sy, shift);
         const AxisWeights &X = st.X, &Y = st.Y, &Z = st.Z;
         double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0, dv2 = 0;
         double L00 = 0, L01 = 0, L02 = 0, L10 = 0, L11 = 0, L12 = 0, L20 = 0, L21 = 0, L22 = 0;
@@ -297,13 +299,19 @@ void Solver::g2p(double dt) {
       total += chunk_fail_[c];
       if (first == nch) first = c;
     }
-  if (total) {
+  // one reduction over the processes of a subdomain run: the failure flag and the signal speed
+  double red[2] = {total ? 1.0 : 0.0, (flags & kGrad) != 0 && nch ? *std::max_element(chunk_speed_.begin(), chunk_speed_.end()) : 0.0};
+  if (sub_.exchange) sub_.exchange->max(red, 2);
+  if (red[0] > 0.0) {
     std::ostringstream os;
-    os << total << " particle(s) failed at t = " << time_ << " s, step " << step_ << ": " << chunk_msg_[first];
+    if (total)
+      os << total << " particle(s) failed at t = " << time_ << " s, step " << step_ << ": " << chunk_msg_[first];
+    else
+      os << "particles failed on another MPI rank at t = " << time_ << " s, step " << step_;
     std::fill(chunk_msg_.begin(), chunk_msg_.end(), std::string());
     throw SolverFailure(os.str(), false);
   }
-  if ((flags & kGrad) != 0) max_speed_ = *std::max_element(chunk_speed_.begin(), chunk_speed_.end());
+  if ((flags & kGrad) != 0) max_speed_ = red[1];
 }
 
 // MUSL: v_p <- alpha (v_p + sum S (v* - v)) + (1 - alpha) sum S v*, and in the same coloured
@@ -312,7 +320,8 @@ void Solver::g2p(double dt) {
 // inside the block footprint.
 template <int NPA>
 void Solver::musl_remap() {
-  const int sx = grid_.shape[0], sy = grid_.shape[1];
+  const int sx = sub_.shape[0], sy = sub_.shape[1];
+  const std::size_t shift = shift_;
   double* x = ps_.x.data();
   double* v = ps_.v.data();
   const double* lp = ps_.half_width.data();
@@ -336,7 +345,7 @@ void Solver::musl_remap() {
       const std::uint32_t b = blocks[ib];
       for (std::uint32_t k = block_start_[b]; k < block_start_[b + 1]; ++k) {
         const std::size_t p = order_[k];
-        const Stencil st = particle_stencil(kind, x + 3 * p, lp + 3 * p, o, h, sx, sy);
+        const Stencil st = particle_stencil(kind, x + 3 * p, lp + 3 * p, o, h, sx, sy, shift);
         const AxisWeights &X = st.X, &Y = st.Y, &Z = st.Z;
         double vs0 = 0, vs1 = 0, vs2 = 0, vo0 = 0, vo1 = 0, vo2 = 0;
         for (int cc = 0; cc < NPA; ++cc)
@@ -384,9 +393,12 @@ void Solver::musl_remap() {
       }
     }
   }
-  if (first_bad < ps_.size()) {
+  if (any_process(first_bad < ps_.size())) {
     std::ostringstream os;
-    os << "non-finite velocity at particle id " << ps_.id[first_bad] << " at t = " << time_ << " s, step " << step_;
+    if (first_bad < ps_.size())
+      os << "non-finite velocity at particle id " << ps_.id[first_bad] << " at t = " << time_ << " s, step " << step_;
+    else
+      os << "non-finite velocity on another MPI rank at t = " << time_ << " s, step " << step_;
     throw SolverFailure(os.str(), false);
   }
   Node* nd = nodes_.data();

@@ -1,0 +1,175 @@
+/// @file domain.hpp
+/// mpm-frag on MPI (issue 19, item 3; MPI build only, SUITE_MPI=ON): the background grid split
+/// among ranks into slabs, ghost nodes, particle migration, rebalancing and global reductions.
+/// One rank runs one Solver (mpm/solver.hpp) on a box of the global grid (Subdomain); the
+/// physics is the serial code's, untouched. With OpenMP threads inside each rank (hybrid).
+///
+/// ## Decomposition (slabs.cpp)
+/// The grid (S_x x S_y x S_z nodes, global indices) is cut along its longest axis a into R slabs
+/// of node planes: rank r OWNS the planes [P_r, P_{r+1}), P_0 = 0, P_R = S_a, and the particles
+/// whose cell c_p = floor((x_p,a - o_a) / h_a) lies in [P_r, P_{r+1}). The cuts balance the
+/// particle count: with n(c) particles in cell c and N = sum n,
+///   P_r = min { P : sum_{c < P} n(c) >= r N / R },  clamped so that P_{r+1} - P_r >= W.
+/// A uGIMP particle of cell c touches nodes c-1 .. c+2 on that axis (shape_functions.hpp; linear:
+/// c .. c+1), so rank r HOLDS the box [P_r - H, P_{r+1} + H) clipped to the grid, H = 2 ghost
+/// planes on each side, and the whole grid on the other two axes. With W = max(2H, 2g + 1 - H)
+/// (g = ghost_layers of the face conditions) only neighbouring ranks' boxes overlap, in the 2H
+/// planes [P_r - H, P_r + H) around each cut, and the mirror source of every symmetry layer lies
+/// inside the box that holds the layer.
+///
+/// ## Step (DomainSolver::step)
+///   1. migration (migrate.cpp): every particle whose cell left the owner's slab is sent, with ALL
+///      its state (every ParticleSet array, ParticleSet::for_each_array, and every state array of
+///      its material's style, Tonge–Ramesh included), to the owner of its cell (any rank, one
+///      alltoallv: debris crossing several slabs in one step is fine). Arrivals are appended per
+///      material after the kept particles, in (source rank, sender order): material ranges stay
+///      contiguous and the order is a function of the state alone (deterministic). A particle
+///      whose stencil leaves the global grid stops the run on every rank (SolverFailure, state
+///      intact).
+///   2. every `rebalance_every` steps: imbalance I = max_r N_r / mean_r N_r; if I > threshold the
+///      cuts are recomputed from the global histogram n(c) (an integer allreduce: exact), each
+///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.).
+///   3. the serial step on the box. After each P2G pass the GridExchange (halo.cpp) completes the
+///      shared nodes: rank r and its neighbour swap their partial sums of m_i, (m v)_i, f_i (the
+///      fields of that pass; after the MUSL re-projection the momenta) over the 2H overlap planes
+///      and both form   X_i = X_i^(r) + X_i^(r+1)   (one addition of two terms: IEEE addition is
+///      commutative, so owner and ghost hold the same bits). This is the "reverse sum to the
+///      owner, values sent back" of the issue with one message per neighbour instead of two: the
+///      grid update, the face conditions and G2P then run on owned and ghost nodes alike from
+///      identical inputs, which is what sending the updated owner values back would give.
+///   4. global reductions (Comm::max, exact): the signal speed max_p (c_p + |v_p|) of dt =
+///      C h / max (every rank takes the same dt), the smallest particle mass of m_min, the
+///      material extents, and the failure flags (a failure on one rank stops every rank).
+///   Diagnostics: each rank's totals (Solver::diagnostics), allgathered and summed in rank order.
+///
+/// ## Determinism and agreement with one rank
+/// Repeated runs with the same rank and thread counts are bit-identical (every sum has a fixed
+/// order). Against one rank the nodal sums of shared nodes are added in another order, so fields
+/// agree to round-off growth (tests/mpm/mpi states the tolerances), mass to round-off and
+/// momentum to round-off of the force sums (the force on a shared node is the same sum).
+///
+/// ## Not yet (first step)
+/// Snapshots are gathered to rank 0 and written by the serial writer (one file, serial layout,
+/// particles sorted by id within each material); no collective HDF5, no checkpoints or restart
+/// across rank counts, no velocity-driven bodies, no outflow removal; every rank builds the full
+/// scene and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
+/// would cut the surface/volume ratio of the halo at high rank counts).
+#pragma once
+#include <mpi.h>
+
+#include <memory>
+#include <vector>
+
+#include "mpm/mpi/comm.hpp"
+#include "mpm/scene_setup.hpp"
+#include "mpm/solver.hpp"
+
+namespace mpmfrag::mpi {
+
+/// Slab decomposition along one axis (see the file comment).
+struct Slabs {
+  int axis = 0;           ///< the split axis a (longest grid axis)
+  int halo = 2;           ///< H: ghost planes on each side of a slab
+  int min_width = 4;      ///< W: fewest planes per slab
+  std::vector<int> cut;   ///< P_0 .. P_R (node planes)
+  int ranks() const { return static_cast<int>(cut.size()) - 1; }
+  /// The rank owning cell / node plane c (0 <= c < S_a).
+  int owner(int c) const;
+  /// The box rank r holds.
+  Subdomain box(int r, const common::GridInfo& g) const;
+};
+
+/// Cuts for `ranks` slabs of `planes` node planes balancing the counts n(c) (size planes), each
+/// slab at least `min_width` planes. Throws common::InputError when planes < ranks * min_width.
+std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, int min_width);
+
+/// Options of the decomposition.
+struct DomainOptions {
+  int rebalance_every = 10;        ///< steps between imbalance checks (0: never rebalance)
+  double imbalance_threshold = 1.2; ///< rebalance when max N_r / mean N_r exceeds this
+};
+
+/// Counters of a rank (communication volume and events).
+struct DomainStats {
+  long long migrated = 0;     ///< particles this rank sent away
+  long long rebalances = 0;   ///< rebalancings (same on every rank)
+  double halo_bytes = 0;      ///< bytes sent in halo swaps
+  double migrate_bytes = 0;   ///< bytes sent in migration (and gathers)
+};
+
+/// Halo swap of the shared nodes (halo.cpp): the GridExchange of a rank's Solver.
+class HaloExchange : public GridExchange {
+ public:
+  HaloExchange(Comm& comm, const Slabs& slabs, const common::GridInfo& grid) : comm_(comm), slabs_(slabs), grid_(grid) {}
+  void sum_shared(Solver::Node* nodes, int fields) override;
+  void max(double* v, int n) override { comm_.max(v, n); }
+  double bytes_sent = 0;
+
+ private:
+  Comm& comm_;
+  const Slabs& slabs_;
+  const common::GridInfo& grid_;
+  std::vector<double> send_[2], recv_[2];
+};
+
+/// The particles of `ps` with keep[p] != 0, materials kept contiguous (state arrays included).
+void select_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, const std::vector<char>& keep,
+                      ParticleSet& out, std::vector<MaterialSlot>& out_mats);
+
+/// Pack particle p with its material state (one migration record) / unpack records into a set
+/// of arrivals: `in` (ParticleSet) and per material the arrivals' indices and state rows.
+void pack_particle(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, std::size_t p, std::vector<char>& buf);
+struct Arrivals {
+  ParticleSet ps;
+  std::vector<std::vector<std::size_t>> index;               ///< per material: indices in ps
+  std::vector<std::vector<std::vector<double>>> state;       ///< per material, per field: rows
+};
+void unpack_particles(const std::vector<char>& buf, const std::vector<MaterialSlot>& mats, bool with_q, Arrivals& in);
+/// The kept particles (keep[p]) followed, per material, by the arrivals.
+void merge_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, const std::vector<char>& keep,
+                     const Arrivals& in, ParticleSet& out, std::vector<MaterialSlot>& out_mats);
+
+/// One rank's part of a distributed mpm-frag run.
+class DomainSolver {
+ public:
+  /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
+  /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
+  DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
+  /// Initial stress and wave speeds (collective).
+  void initialize() { solver_->initialize(); }
+  /// The global stable dt (the same on every rank).
+  double stable_dt() const { return solver_->stable_dt(); }
+  /// Migrate, rebalance if due, then one step of every rank's Solver (collective).
+  void step(double dt);
+  /// Global totals, rank partials summed in rank order (collective).
+  Diagnostics diagnostics();
+  /// All particles on `root` (sorted by id within each material, material ranges contiguous);
+  /// other ranks get empty sets (collective).
+  void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats);
+  /// Imbalance max_r N_r / mean_r N_r (collective).
+  double imbalance();
+  /// Recompute the cuts from the particle histogram and migrate (collective).
+  void rebalance();
+
+  Solver& local() { return *solver_; }
+  const Slabs& slabs() const { return slabs_; }
+  const DomainStats& stats() const { return stats_; }
+  Comm& comm() { return comm_; }
+  double time() const { return solver_->time(); }
+  std::int64_t step_count() const { return solver_->step_count(); }
+
+ private:
+  /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
+  void migrate();
+  std::vector<long long> histogram() const;
+
+  Comm comm_;
+  DomainOptions opt_;
+  common::GridInfo grid_;
+  Slabs slabs_;
+  std::unique_ptr<HaloExchange> halo_;
+  std::unique_ptr<Solver> solver_;
+  DomainStats stats_;
+};
+
+}  // namespace mpmfrag::mpi

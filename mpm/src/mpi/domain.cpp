@@ -1,0 +1,205 @@
+/// @file domain.cpp
+/// One rank's part of a distributed mpm-frag run (mpm/mpi/domain.hpp for the design and the
+/// equations): set-up from the full scene, the step (migration, rebalancing, the serial step on
+/// the rank's box), global diagnostics summed in rank order, and the gather of all particles.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <sstream>
+
+#include "common/status.hpp"
+#include "mpm/mpi/domain.hpp"
+#include "mpm/shape_functions.hpp"
+
+namespace mpmfrag::mpi {
+
+namespace {
+/// Cell index c = floor((x_a - o_a) / h_a) of every particle along the split axis (the same
+/// expression as axis_weights), clamped to the grid.
+int cell_of(const common::GridInfo& g, int a, double x) {
+  const double xi = (x - g.origin[a]) / g.cell_size[a];
+  const double c = std::floor(xi);
+  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(g.shape[a] - 1)));
+}
+}  // namespace
+
+DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
+    : comm_(comm), opt_(opt), grid_(setup.grid) {
+  if (!setup.drives.empty())
+    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
+  slabs_.axis = 0;
+  for (int d = 1; d < 3; ++d)
+    if (grid_.shape[d] > grid_.shape[slabs_.axis]) slabs_.axis = d;
+  slabs_.halo = 2;
+  slabs_.min_width = std::max({2 * slabs_.halo, 2 * setup.solver.ghost_layers + 1 - slabs_.halo, 1});
+  const ParticleSet& ps = setup.particles;
+  std::vector<long long> count(grid_.shape[slabs_.axis], 0);
+  for (std::size_t p = 0; p < ps.size(); ++p) ++count[cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])];
+  slabs_.cut = balanced_cuts(count, comm_.size, slabs_.min_width);
+  std::vector<char> keep(ps.size());
+  for (std::size_t p = 0; p < ps.size(); ++p)
+    keep[p] = slabs_.owner(cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])) == comm_.rank;
+  ParticleSet mine;
+  std::vector<MaterialSlot> mats;
+  select_particles(ps, setup.materials, keep, mine, mats);
+  halo_ = std::make_unique<HaloExchange>(comm_, slabs_, grid_);
+  Subdomain box = slabs_.box(comm_.rank, grid_);
+  box.exchange = halo_.get();
+  solver_ = std::make_unique<Solver>(setup.solver, grid_, std::move(mine), std::move(mats), box);
+}
+
+void DomainSolver::migrate() {
+  const Solver& s = *solver_;
+  const ParticleSet& ps = s.particles();
+  const std::vector<MaterialSlot>& mats = s.materials();
+  const std::size_t n = ps.size();
+  const int a = slabs_.axis, npa = s.config().shape == ShapeKind::linear ? 2 : 3;
+  std::vector<char> keep(n, 1);
+  std::vector<std::vector<char>> send(comm_.size);
+  std::size_t bad = n;
+  long long sent = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    bool ok = true;
+    for (int d = 0; d < 3; ++d) {
+      const double x = ps.x[3 * p + d];
+      const AxisWeights w = axis_weights(s.config().shape, x, grid_.origin[d], grid_.cell_size[d], ps.half_width[3 * p + d]);
+      if (!std::isfinite(x) || w.first < 0 || w.first + npa > grid_.shape[d]) ok = false;
+    }
+    if (!ok) {
+      bad = std::min(bad, p);
+      continue;
+    }
+    const int r = slabs_.owner(cell_of(grid_, a, ps.x[3 * p + a]));
+    if (r == comm_.rank) continue;
+    keep[p] = 0;
+    pack_particle(ps, mats, p, send[r]);
+    ++sent;
+  }
+  double flag = bad < n ? 1.0 : 0.0;
+  comm_.max(&flag, 1);
+  if (flag > 0.0) {
+    std::ostringstream os;
+    if (bad < n)
+      os << "particle id " << ps.id[bad] << " at (" << ps.x[3 * bad] << ", " << ps.x[3 * bad + 1] << ", " << ps.x[3 * bad + 2]
+         << ") m left the grid (its interpolation stencil leaves the domain plus ghost layers) at t = " << s.time()
+         << " s, step " << s.step_count() << "; enlarge [grid] domain_min/domain_max or use fixed/symmetry faces";
+    else
+      os << "a particle left the grid on another MPI rank at t = " << s.time() << " s, step " << s.step_count();
+    throw SolverFailure(os.str(), true);
+  }
+  const double before = comm_.bytes_sent;
+  const std::vector<std::vector<char>> recv = comm_.alltoallv(send);
+  stats_.migrate_bytes += comm_.bytes_sent - before;
+  stats_.migrated += sent;
+  bool arrived = false;
+  for (const auto& b : recv) arrived = arrived || !b.empty();
+  if (sent == 0 && !arrived) return;
+  Arrivals in;
+  const bool with_q = s.config().artificial_viscosity;
+  for (const auto& b : recv) unpack_particles(b, mats, with_q, in);
+  ParticleSet out;
+  std::vector<MaterialSlot> out_mats;
+  merge_particles(ps, mats, keep, in, out, out_mats);
+  solver_->replace_particles(std::move(out), std::move(out_mats));
+}
+
+std::vector<long long> DomainSolver::histogram() const {
+  const ParticleSet& ps = solver_->particles();
+  std::vector<long long> count(grid_.shape[slabs_.axis], 0);
+  for (std::size_t p = 0; p < ps.size(); ++p) ++count[cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])];
+  return count;
+}
+
+double DomainSolver::imbalance() {
+  const double n = static_cast<double>(solver_->particles().size());
+  const std::vector<double> all = comm_.allgather(&n, 1);
+  const double mx = *std::max_element(all.begin(), all.end());
+  const double mean = std::accumulate(all.begin(), all.end(), 0.0) / comm_.size;
+  return mean > 0.0 ? mx / mean : 1.0;
+}
+
+void DomainSolver::rebalance() {
+  std::vector<long long> count = histogram();
+  comm_.sum(count.data(), static_cast<int>(count.size()));
+  const std::vector<int> cut = balanced_cuts(count, comm_.size, slabs_.min_width);
+  if (cut != slabs_.cut) {
+    slabs_.cut = cut;
+    Subdomain box = slabs_.box(comm_.rank, grid_);
+    box.exchange = halo_.get();
+    solver_->set_subdomain(box);
+    ++stats_.rebalances;
+  }
+  migrate();
+}
+
+void DomainSolver::step(double dt) {
+  const std::int64_t k = solver_->step_count();
+  if (opt_.rebalance_every > 0 && k > 0 && k % opt_.rebalance_every == 0 && imbalance() > opt_.imbalance_threshold)
+    rebalance();
+  else
+    migrate();
+  const double before = halo_->bytes_sent;
+  solver_->step(dt);
+  stats_.halo_bytes += halo_->bytes_sent - before;
+}
+
+Diagnostics DomainSolver::diagnostics() {
+  const Diagnostics d = solver_->diagnostics();
+  const double v[17] = {d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.angular_momentum[0],
+                        d.angular_momentum[1], d.angular_momentum[2], d.kinetic, d.internal, d.work_dev,
+                        d.heat_shock, d.heat_transfer, d.elastic, d.dissipated, static_cast<double>(d.removed),
+                        d.removed_mass, 0.0};
+  const std::vector<double> all = comm_.allgather(v, 17);
+  Diagnostics t;
+  for (int r = 0; r < comm_.size; ++r) {  // rank order: the same sum on every rank and every run
+    const double* u = all.data() + 17 * r;
+    t.mass += u[0];
+    t.momentum += Eigen::Vector3d(u[1], u[2], u[3]);
+    t.angular_momentum += Eigen::Vector3d(u[4], u[5], u[6]);
+    t.kinetic += u[7];
+    t.internal += u[8];
+    t.work_dev += u[9];
+    t.heat_shock += u[10];
+    t.heat_transfer += u[11];
+    t.elastic += u[12];
+    t.dissipated += u[13];
+    t.removed += static_cast<std::size_t>(u[14]);
+    t.removed_mass += u[15];
+  }
+  return t;
+}
+
+void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>& out_mats) {
+  const ParticleSet& ps = solver_->particles();
+  const std::vector<MaterialSlot>& mats = solver_->materials();
+  std::vector<char> buf;
+  for (std::size_t p = 0; p < ps.size(); ++p) pack_particle(ps, mats, p, buf);
+  const double before = comm_.bytes_sent;
+  const std::vector<std::vector<char>> all = comm_.gather(buf, root);
+  stats_.migrate_bytes += comm_.bytes_sent - before;
+  out = ParticleSet{};
+  out_mats.clear();
+  if (comm_.rank != root) return;
+  Arrivals in;
+  const bool with_q = solver_->config().artificial_viscosity;
+  for (const auto& b : all) unpack_particles(b, mats, with_q, in);
+  // sort the arrivals of each material by id: a file independent of the rank count
+  for (std::vector<std::size_t>& idx : in.index) {
+    std::vector<std::size_t> order(idx.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return in.ps.id[idx[x]] < in.ps.id[idx[y]]; });
+    std::vector<std::size_t> sorted(idx.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) sorted[i] = idx[order[i]];
+    const std::size_t m = static_cast<std::size_t>(&idx - in.index.data());
+    for (std::vector<double>& st : in.state[m]) {
+      const std::size_t nc = idx.empty() ? 0 : st.size() / idx.size();
+      std::vector<double> t(st.size());
+      for (std::size_t i = 0; i < idx.size(); ++i) std::copy_n(st.begin() + nc * order[i], nc, t.begin() + nc * i);
+      st.swap(t);
+    }
+    idx.swap(sorted);
+  }
+  merge_particles(ps, mats, std::vector<char>(ps.size(), 0), in, out, out_mats);
+}
+
+}  // namespace mpmfrag::mpi
