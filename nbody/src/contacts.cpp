@@ -49,18 +49,18 @@ ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, d
 
 ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                                     const std::vector<Vec3>& wpred, double h,
-                                    std::vector<Vec3>& F, std::vector<Vec3>& T) {
+                                    std::vector<Vec3>& F, std::vector<Vec3>& T, double* diss) {
   // one kernel per valid set of parts, generated from the table (contact/table.hpp)
   return dispatch_parts(params_.parts, [&](auto parts) {
-    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, h, F, T);
+    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, h, F, T, nullptr, diss);
   });
 }
 
 ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                                     const std::vector<Vec3>& wpred, const Subset& sub,
-                                    std::vector<Vec3>& F, std::vector<Vec3>& T) {
+                                    std::vector<Vec3>& F, std::vector<Vec3>& T, double* diss) {
   return dispatch_parts(params_.parts, [&](auto parts) {
-    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, 0.0, F, T, &sub);
+    return compute_impl<decltype(parts)::value>(sp, vpred, wpred, 0.0, F, T, &sub, diss);
   });
 }
 
@@ -70,7 +70,7 @@ template <unsigned PARTS>
 ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                                          const std::vector<Vec3>& wpred, double h0,
                                          std::vector<Vec3>& F, std::vector<Vec3>& T,
-                                         const Subset* sub) {
+                                         const Subset* sub, double* diss) {
   const std::size_t n = sp.size();
   if (xref_.size() != n || import_)
     throw std::logic_error("ContactSystem::compute: no pair list for these spheres (update_neighbors first)");
@@ -98,6 +98,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
                                                 vpred[i], vpred[j], wpred[i], wpred[j], sp.v[i],
                                                 sp.v[j], sp.w[i], sp.w[j], h, act, ph_.row(p), res);
       ph_.active[p] = act ? 1 : 0;
+      pD_[p] = res.diss;  // 0 without contact; at a release, the energy its history held
       if (c) {
         pF_[p] = res.F;
         pTp_[p] = res.Tp;
@@ -126,24 +127,30 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const std::size_t k = sub ? sub->spheres[r] : r;
       const double h = sub ? sub->hsphere[r] : h0;
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+      double dk = 0.0;
       for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
         const std::uint32_t p = jpair_[q];
         if (ph_.active[p]) {
           f -= pF_[p];
           t += pTn_[p];
         }
+        dk += 0.5 * pD_[p];
       }
       for (std::uint32_t p = irow_[k]; p < irow_[k + 1]; ++p) {
         if (ph_.active[p]) {
           f += pF_[p];
           t += pTp_[p];
         }
+        dk += 0.5 * pD_[p];
       }
       for (std::size_t w = 0; w < nw; ++w) {
         const Plane& pl = walls_[w];
         double dist = (sp.x[k] - pl.point).dot(pl.normal);
         const std::size_t s = k * nw + w;
         if (dist >= sp.s[k]) {
+          if constexpr (TableInfo::has_history(PARTS)) {  // released: the history's energy is lost
+            if (wh_.active[s]) dk += contact_elastic_energy<PARTS>(coeffs_, 0.0, sp.s[k], wh_.row(s), true);
+          }
           wh_.active[s] = 0;
           continue;
         }
@@ -157,11 +164,13 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         wh_.active[s] = act ? 1 : 0;
         f += res.F;
         t += res.Tp;
+        dk += res.diss;
         ++lc;
         lw.offer(res.overlap / sp.s[k], k, k, s);
       }
       F[k] = f;
       T[k] = t;
+      if (diss) diss[k] += dk;
     }
 #pragma omp critical(ssdem_wall_stats)
     {
@@ -239,7 +248,7 @@ void ContactSystem::import_history(const Spheres& sp, const std::vector<HistoryR
 double ContactSystem::bytes_per_sphere(std::size_t n) const {
   if (n == 0) return 0.0;
   const double P = static_cast<double>(pi_.size());
-  const double per_pair = 4 + 4 + 3 * 24 + 4 + ph_.bytes_per_row();  // pi, pj, results, jpair, history
+  const double per_pair = 4 + 4 + 3 * 24 + 8 + 4 + ph_.bytes_per_row();  // pi, pj, results, jpair, history
   double b = P * per_pair + 8.0 * (n + 1) + 24.0 * n;  // irow/jrow, xref
   b += static_cast<double>(wh_.size()) * wh_.bytes_per_row();
   return b / static_cast<double>(n);

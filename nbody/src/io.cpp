@@ -3,6 +3,7 @@
 #include "ssdem/io.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string_view>
 #include <type_traits>
@@ -144,6 +145,9 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
     h5::write_attr(g, "dt", dt);
     h5::write_attr(g, "gravity_every", static_cast<std::int64_t>(gravity_every));
     h5::write_attr(g, "kn", kn);
+    // the run's initial accounted energy (Diagnostics::accounted), so that a restarted run
+    // reports its energy error against the same E_0
+    if (std::isfinite(st.energy0)) h5::write_attr(g, "energy0_J", st.energy0);
     if (!identity.empty()) {
       h5::write_attr(g, "run_identity", identity);
       h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
@@ -229,6 +233,7 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     if (dt) *dt = h5::read_attr_double(g, "dt", path);
     if (gravity_every) *gravity_every = static_cast<int>(h5::read_attr_int(g, "gravity_every", path));
     if (kn) *kn = h5::read_attr_double(g, "kn", path);
+    if (H5Aexists(g, "energy0_J") > 0) st.energy0 = h5::read_attr_double(g, "energy0_J", path);
     if (identity)
       *identity = H5Aexists(g, "run_identity") > 0 ? h5::read_attr_string(g, "run_identity", path) : std::string();
     st.a = unflat(h5::read_doubles(f, "/ssdem_state/a", -1, 3, path));

@@ -250,7 +250,7 @@ void Simulation::multirate_forces() {
   lstats_.evaluations += static_cast<std::int64_t>(na);
   if (contacts_) {
     if (uniform) {  // everyone active with one step: the single-rate kernel call
-      cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_);
+      cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_, sp_.dissipated.data());
     } else {
       // every listed pair with an active member: pairs in contact have both members active (near
       // pairs share a level); a pair with one active member is evaluated too, so that a contact
@@ -294,7 +294,7 @@ void Simulation::multirate_forces() {
             subset_.hpair[o++] = hpair(jp[q]);
           }
       }
-      cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_);
+      cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
     }
     // bonds of synchronised spheres (both ends always together), each with its spheres' step
     if (bonds_) bonds_->compute_synchronised(sp_, sync_, topen_, step_, h, F_, T_);

@@ -333,6 +333,7 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   pF_.resize(P);
   pTp_.resize(P);
   pTn_.resize(P);
+  pD_.resize(P);
   // CSR of pairs by their j member (ascending pair index = ascending partner i).
   jrow_.assign(n + 1, 0);
   for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];

@@ -58,6 +58,8 @@ common::SeriesFormat series_format() {
                                {"potential_uniform_J", "J"},
                                {"elastic_J", "J"},
                                {"total_J", "J"},
+                               {"dissipated_J", "J"},
+                               {"energy_error_J", "J"},
                                {"px_kgm_s", "kg m/s"},
                                {"py_kgm_s", "kg m/s"},
                                {"pz_kgm_s", "kg m/s"},
@@ -79,6 +81,32 @@ common::SeriesFormat series_format(bool bonds) {
   std::vector<common::SeriesColumn> c = series_format().columns();
   c.insert(c.end(), {{"bond_elastic_J", "J"}, {"bond_released_J", "J"}, {"bonds_intact", ""}, {"bonds_broken", ""}});
   return common::SeriesFormat(std::move(c), {.precision = 17});
+}
+void series_row(common::SeriesRow& row, std::int64_t step, double time, const Diagnostics& d, double E0,
+                double wall, bool bonds) {
+  row.integer(step).num(time).num(d.kinetic).num(d.rotational);
+  row.num(d.potential_self).num(d.potential_uniform).num(d.elastic).num(d.total());
+  row.num(d.dissipated).num(d.accounted() - E0);
+  row.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
+  row.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
+  row.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(wall);
+  if (bonds) row.num(d.bond_elastic).num(d.bond_released).integer(d.bonds - d.bonds_broken).integer(d.bonds_broken);
+}
+double relative_energy_error(const Diagnostics& d, double E0) {
+  const double err = std::fabs(d.accounted() - E0);
+  if (E0 != 0.0) return err / std::fabs(E0);
+  const double k = d.kinetic + d.rotational;
+  return k > 0.0 ? err / k : 0.0;
+}
+std::string energy_report(const Diagnostics& d, double E0) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "energy: E0 = " << E0 << " J; now conservative " << d.total() << " J + dissipated by contacts "
+     << d.dissipated << " J + released by broken bonds " << d.bond_released << " J; error (sum - E0) "
+     << d.accounted() - E0 << " J = " << relative_energy_error(d, E0) << " of |E0|";
+  const double gone = d.dissipated + d.bond_released;
+  if (gone > 0.0) os << ", " << std::fabs(d.accounted() - E0) / gone << " of the dissipated energy";
+  return os.str();
 }
 OutputPlan output_plan(const common::Scene& sc, const SimConfig& cfg, const std::string& dir) {
   OutputPlan p;
@@ -188,6 +216,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
 
   std::unique_ptr<Simulation> sim;
   std::string info;
+  double energy0 = NAN;
   if (restart.empty()) {
     BondSet file_bonds;
     Spheres sp = initial_spheres(sc, &file_bonds);
@@ -235,6 +264,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     cfg.dt = dt0;
     if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
     st.gravity_block = every0;
+    energy0 = st.energy0;
+    if (std::isnan(energy0))
+      spdlog::warn("restart: {} records no initial energy (older version); the energy error is reported "
+                   "from the restart on", restart);
     sim = std::make_unique<Simulation>(std::move(st), cfg);
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
   }
@@ -276,24 +309,21 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   if (cfg.multirate)
     levels_file.emplace((std::filesystem::path(dir) / "levels.csv").string(), levels_format(),
                         restart.empty() ? std::nullopt : std::optional(sim->step_count()));
-  double E0 = NAN, last_level_log = -INFINITY;
+  // E_0 of the energy error: the accounted energy of the first row (a restart: the checkpoint's)
+  double E0 = energy0, last_level_log = -INFINITY;
+  Diagnostics last;
   const double progress_dt = sc.real("output.progress_interval");
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   auto write_row = [&]() {
     const Diagnostics d = sim->diagnostics();
     const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
     common::require_finite(e, 6, series_path, "energies at step " + std::to_string(sim->step_count()));
-    if (std::isnan(E0)) E0 = d.total();
+    if (std::isnan(E0)) E0 = d.accounted();
+    last = d;
     common::SeriesRow row = series_file.row();
-    row.integer(sim->step_count()).num(sim->time()).num(d.kinetic).num(d.rotational);
-    row.num(d.potential_self).num(d.potential_uniform).num(d.elastic).num(d.total());
-    row.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
-    row.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
-    row.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(progress.elapsed());
-    if (bonds) row.num(d.bond_elastic).num(d.bond_released).integer(d.bonds - d.bonds_broken).integer(d.bonds_broken);
+    detail::series_row(row, sim->step_count(), sim->time(), d, E0, progress.elapsed(), bonds != nullptr);
     series_file.write(row);
-    const double rel = E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0;
-    progress.update(sim->step_count(), sim->time(), cfg.dt, rel);
+    progress.update(sim->step_count(), sim->time(), cfg.dt, detail::relative_energy_error(d, E0));
     if (levels_file) {
       const LevelStats& ls = sim->level_stats();
       common::SeriesRow lr = levels_file->row();
@@ -311,7 +341,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     }
   };
   auto checkpoint = [&]() {
-    const SimState st = sim->state();
+    SimState st = sim->state();
+    st.energy0 = E0;
     write_checkpoint(ckpt_path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
     spdlog::info("checkpoint at step {} -> {}", sim->step_count(), ckpt_path);
   };
@@ -383,6 +414,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   if (levels_file) levels_file->commit();
   {
     std::string tail;
+    tail += detail::energy_report(last, E0) + "\n";
     if (cfg.self_gravity) tail += cadence_report(*sim) + "\n";
     if (cfg.multirate) tail += levels_report(*sim) + "\n";
     if (bonds) tail += bond_report(*sim) + "\n";
@@ -393,7 +425,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   }
   rd.publish();
   spdlog::info("run complete: outputs published in {}", out_dir);
-  progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
+  progress.update(sim->step_count(), sim->time(), cfg.dt, std::isnan(E0) ? 0.0 : detail::relative_energy_error(last, E0), true);
   const PhaseTimes& t = sim->times();
   spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f} ({} rebuilds), "
                "contacts {:.3f}, integrate {:.3f} (levels {:.3f})",

@@ -143,7 +143,8 @@ void Simulation::compute_forces(bool initial) {
     const double t0 = omp_get_wtime(), c0 = cpu_now();
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime(), c1 = cpu_now();
-    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
+    // dissipation is counted over steps only (the initial evaluation is no step)
+    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
     // bonds: increments with the half-step velocities (none at the initial evaluation)
     if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
     const double t2 = omp_get_wtime(), c2 = cpu_now();
@@ -293,6 +294,7 @@ Diagnostics Simulation::diagnostics() {
     if (contacts_) d.rotational += 0.5 * sp_.inertia(i) * sp_.w[i].squaredNorm();
     if (cfg_.self_gravity) d.potential_self += 0.5 * m * pot_[i];
     d.potential_uniform -= m * cfg_.uniform_g.dot(sp_.x[i]);
+    d.dissipated += sp_.dissipated[i];
     d.momentum += m * sp_.v[i];
     d.angular_momentum += m * sp_.x[i].cross(sp_.v[i]) + sp_.inertia(i) * sp_.w[i];
   }

@@ -4,6 +4,8 @@
 /// (runaway overlap, state saved), per-sphere fields (damage) carried from the input file to
 /// snapshots, scene-driven physics selection (no tree / no neighbour list when not needed).
 #include <gtest/gtest.h>
+
+#include <sstream>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -100,6 +102,38 @@ TEST(App, RestartFromCheckpointIsBitIdentical) {
   ASSERT_EQ(a.position, b.position);
   ASSERT_EQ(a.velocity, b.velocity);
   ASSERT_EQ(a.spin, b.spin);
+  // the dissipated energy per sphere, and the energy error against the same E_0 (kept in the
+  // checkpoint), continue bit-identically
+  auto field = [](const common::SphereSet& set, const std::string& name) {
+    for (const auto& f : set.fields)
+      if (f.name == name) return f.values;
+    return std::vector<double>{};
+  };
+  const std::vector<double> da = field(a, "dissipated");
+  ASSERT_FALSE(da.empty());
+  EXPECT_EQ(da, field(b, "dissipated"));
+  EXPECT_GT(*std::max_element(da.begin(), da.end()), 0.0);
+  auto last_value = [](const std::string& path, const std::string& column) {
+    std::ifstream in(path);
+    std::string line, last, header;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#') continue;
+      if (header.empty()) header = line;
+      else last = line;
+    }
+    auto split = [](const std::string& t) {
+      std::vector<std::string> out;
+      std::stringstream ss(t);
+      for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+      return out;
+    };
+    const auto h = split(header), v = split(last);
+    const auto it = std::find(h.begin(), h.end(), column);
+    return it == h.end() || v.size() != h.size() ? std::string("missing") : v[it - h.begin()];
+  };
+  EXPECT_NE(last_value(d + "/full/series.csv", "energy_error_J"), "missing");
+  EXPECT_EQ(last_value(d + "/full/series.csv", "energy_error_J"), last_value(d + "/part/series.csv", "energy_error_J"));
+  EXPECT_EQ(last_value(d + "/full/series.csv", "dissipated_J"), last_value(d + "/part/series.csv", "dissipated_J"));
   EXPECT_GT(read_checkpoint(d + "/part/checkpoint.h5").history.size(), 100u);
   // the series file was continued, not restarted
   std::ifstream f(d + "/part/series.csv");

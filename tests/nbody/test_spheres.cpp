@@ -27,12 +27,13 @@ TEST(Spheres, EveryArrayIsListedOnceWithItsFileDescriptor) {
     names.push_back(a.name);
     bytes += a.bytes();
   });
-  EXPECT_EQ(names, (std::vector<std::string>{"id", "position", "velocity", "spin", "mass", "radius"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"id", "position", "velocity", "spin", "mass", "radius", "dissipated"}));
   EXPECT_EQ(bytes, Spheres::bytes_per_sphere());
-  EXPECT_EQ(Spheres::bytes_per_sphere(), 8u + 3 * 24 + 16);
-  // the file's core arrays are the same list
+  EXPECT_EQ(Spheres::bytes_per_sphere(), 8u + 3 * 24 + 16 + 8);
+  // the file's core arrays are the same list, less the run's own "dissipated" (a field in files)
   std::vector<std::string> file;
   common::SphereSet::zip_arrays([&](const common::SphereArray& a) { file.push_back(a.name); });
+  names.pop_back();
   EXPECT_EQ(file, names);
 }
 
@@ -57,6 +58,7 @@ TEST(Spheres, ResizePushAppendCoverEveryArray) {
 
 TEST(Spheres, SphereFileConversionRoundTripsEveryArray) {
   Spheres sp = two();
+  sp.dissipated = {0.5, 1.5};
   sp.carried.push_back({"damage", "1", 1, {0.25, 0.75}, "damage"});
   const common::SphereSet s = to_sphere_set(sp, 3.0, 12);
   EXPECT_EQ(s.time, 3.0);
@@ -65,7 +67,9 @@ TEST(Spheres, SphereFileConversionRoundTripsEveryArray) {
   EXPECT_EQ(s.position, (std::vector<double>{1, 2, 3, -1, -2, -3}));
   EXPECT_EQ(s.spin, (std::vector<double>{7, 8, 9, -7, -8, -9}));
   EXPECT_EQ(s.radius, sp.s);
-  ASSERT_EQ(s.fields.size(), 1u);
+  ASSERT_EQ(s.fields.size(), 2u);  // damage and the run's dissipated energy
+  EXPECT_EQ(s.fields[1].name, "dissipated");
+  EXPECT_EQ(s.fields[1].unit, "J");
   const Spheres back = from_sphere_set(s);
   EXPECT_EQ(back.id, sp.id);
   EXPECT_EQ(back.x, sp.x);
@@ -73,6 +77,7 @@ TEST(Spheres, SphereFileConversionRoundTripsEveryArray) {
   EXPECT_EQ(back.w, sp.w);
   EXPECT_EQ(back.m, sp.m);
   EXPECT_EQ(back.s, sp.s);
+  EXPECT_EQ(back.dissipated, sp.dissipated);
   ASSERT_EQ(back.carried.size(), 1u);
   EXPECT_EQ(back.carried[0].values, sp.carried[0].values);
 }

@@ -26,6 +26,14 @@
 /// centre to the plane, Rbar = s_p, the lever-arm correction in v_roll becomes 1/(2 l_p), and
 /// the wall takes no torque. (Deviation: pkdgrav's wall law differs in details that are not
 /// in the reference notes; this limit is the natural one for the sphere-sphere law.)
+/// Dissipation. Each part adds the energy it dissipates over the step to PairCtx::diss (the
+/// dashpots: C u^2 h with the velocities they act on; a slider: the work done on it minus the
+/// change of its spring's energy; see each part). Summed over the run (ContactSystem::compute,
+/// Spheres::dissipated) it closes the energy balance E_conservative + D = E_0 up to the
+/// integration error, which is what the run reports as its energy error. Springs are never
+/// counted, except the energy left in the history springs when a contact ends (lost with the
+/// history): their discretisation error (the first-order onset/release error, the Mindlin
+/// stiffness change) shows in that error rather than being hidden in D.
 /// Per-pair step: h is an argument of the kernel, so a later per-pair rung only has to pass its
 /// own h (and keep its rung in one more history column).
 #pragma once
@@ -50,6 +58,7 @@ struct PairResult {
   Vec3 Tp = Vec3::Zero();  ///< torque on p
   Vec3 Tn = Vec3::Zero();  ///< torque on n
   double overlap = 0.0;
+  double diss = 0.0;       ///< energy dissipated over the step [J]
 };
 
 namespace contact_kernel {
@@ -118,6 +127,13 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
   const double d2 = rho.squaredNorm();
   const double reach = sp + sn;
   if (d2 >= reach * reach) {
+    // a contact that ends takes the energy left in its history springs (tangential, rolling,
+    // twisting) with it: counted as dissipated (the springs' energy at x = 0)
+    if constexpr (HIST) {
+      if (active)
+        out.diss = contact_kernel::energy<PARTS, N>(ContactTable{}, c, EnergyCtx{0.0, WALL ? sp : sp * sn / reach, WALL},
+                                                    hist);
+    }
     active = false;
     return false;
   }
@@ -190,6 +206,7 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
   out.Tp = k.Tp;
   out.Tn = k.Tn;
   out.overlap = k.x;
+  out.diss = k.diss;
   return true;
 }
 

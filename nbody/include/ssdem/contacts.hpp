@@ -82,9 +82,12 @@ class ContactSystem {
   /// velocities/spins vpred/wpred and half-step spins for the transport rotation. Uses the pair
   /// list as left by update_neighbors() / import_history() (std::logic_error if there is none for
   /// these spheres); ContactStats::rebuilt says whether it was rebuilt since the last compute().
+  /// `diss` (may be null): per-sphere accumulator to which each sphere's share of this step's
+  /// dissipated energy is added (half of each sphere-sphere contact's, all of its wall
+  /// contacts'), gathered in the same order as the forces (thread-count independent).
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
-                       std::vector<Vec3>& T);
+                       std::vector<Vec3>& T, double* diss = nullptr);
   /// The pairs and spheres of one multi-rate substep (multirate.hpp): listed pairs (indices into
   /// the pair list, ascending) evaluated with their own step hpair, and the spheres whose F and T
   /// are gathered (ascending; wall contacts with hsphere). Every pair of a listed sphere that is
@@ -96,7 +99,7 @@ class ContactSystem {
   /// compute() restricted to a Subset: F and T are written for its spheres only.
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, const Subset& sub, std::vector<Vec3>& F,
-                       std::vector<Vec3>& T);
+                       std::vector<Vec3>& T, double* diss = nullptr);
   /// Re-insert a sphere once it moved more than f * skin from its reference position (default
   /// 1/2). With f < 1/2 every pair with a gap below (1 - 2 f) * skin is listed (multi-rate uses
   /// f = 1/4: pairs closer than skin/2 are always listed, whatever the list's history).
@@ -142,7 +145,7 @@ class ContactSystem {
   template <unsigned PARTS>
   ContactStats compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                             const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
-                            std::vector<Vec3>& T, const Subset* sub = nullptr);
+                            std::vector<Vec3>& T, const Subset* sub, double* diss);
 
   ContactParams params_;
   ContactCoeffs coeffs_;
@@ -155,6 +158,7 @@ class ContactSystem {
   ContactHistory ph_;  // per pair
   // per-pair results
   std::vector<Vec3> pF_, pTp_, pTn_;
+  std::vector<double> pD_;  // energy dissipated over the pair's last step
   // CSR of pairs where the sphere is the j member (ascending i)
   std::vector<std::uint32_t> jrow_, jpair_;
   // CSR of pairs where the sphere is the i member: contiguous range

@@ -44,6 +44,7 @@
 /// A scene enables only its physics: without self-gravity no tree is built; without contacts
 /// no neighbour list exists.
 #pragma once
+#include <cmath>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -91,6 +92,7 @@ struct SimState {
   BondSet bonds;  ///< bonds with their state (empty: none)
   std::vector<std::uint8_t> level;  ///< multi-rate level per sphere (empty: single rate / all 0)
   std::vector<double> tau_prev;     ///< multi-rate: length of each sphere's previous step [s]
+  double energy0 = NAN;  ///< the run's Diagnostics::accounted() at its first row [J] (NaN: unknown)
 };
 
 struct Diagnostics {
@@ -98,6 +100,10 @@ struct Diagnostics {
   double total() const { return kinetic + rotational + potential_self + potential_uniform + elastic; }
   double bond_elastic = 0;   ///< part of `elastic` stored in intact bonds [J]
   double bond_released = 0;  ///< stored energy of the bonds broken so far [J] (left the total)
+  double dissipated = 0;     ///< energy dissipated by the contacts so far (sum of Spheres::dissipated) [J]
+  /// What an exact integration keeps constant: the conservative total plus what has left it
+  /// (contact dissipation, broken bonds' stored energy). accounted() - E_0 is the energy error.
+  double accounted() const { return total() + dissipated + bond_released; }
   std::size_t bonds = 0, bonds_broken = 0;
   Vec3 momentum = Vec3::Zero();
   Vec3 angular_momentum = Vec3::Zero();  ///< orbital + spin, about the origin

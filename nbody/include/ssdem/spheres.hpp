@@ -6,6 +6,10 @@
 /// moment of inertia is that of a solid sphere, I = (2/5) m s^2 (pkdgrav
 /// `dem.c:demAssignParticleInertia`, Schwartz, Richardson & Michel 2012, Granular Matter 14:363).
 /// Optional per-sphere fields (damage, ...) from the input file are carried through unchanged.
+/// `dissipated` accumulates the energy the sphere's contacts have dissipated (half of each
+/// sphere-sphere contact's, all of its wall contacts'; contact_law.hpp, "Dissipation"): it moves
+/// with the sphere (reordering, MPI ranks, checkpoints), so the run's total is a sum over spheres
+/// that does not depend on the thread or rank count.
 /// Loops run over index ranges [begin, end) so a domain decomposition can be added later.
 ///
 /// The arrays are enumerated in one place, Spheres::zip_arrays (with their file descriptors:
@@ -27,6 +31,10 @@ namespace ssdem {
 
 using Vec3 = Eigen::Vector3d;
 
+/// Not a core array of sphere files: written as the per-sphere field "dissipated" (zero when an
+/// input lacks it).
+inline constexpr common::SphereArray kSphereDissipated{"dissipated", "J", common::SphereScalar::Float64, 1};
+
 /// SoA sphere storage. Index order is stable for the whole run (never re-sorted), so the
 /// index is a valid handle between neighbour-list rebuilds; ids are the persistent key.
 struct Spheres {
@@ -36,6 +44,7 @@ struct Spheres {
   std::vector<Vec3> w;   ///< spin, angular velocity [rad/s]
   std::vector<double> m; ///< mass [kg]
   std::vector<double> s; ///< radius [m]
+  std::vector<double> dissipated;  ///< energy dissipated in this sphere's contacts so far [J]
   /// Per-sphere fields carried from the input to every snapshot (e.g. "damage").
   std::vector<common::Field> carried;
 
@@ -49,6 +58,7 @@ struct Spheres {
     f(common::kSphereSpin, sets.w...);
     f(common::kSphereMass, sets.m...);
     f(common::kSphereRadius, sets.s...);
+    f(kSphereDissipated, sets.dissipated...);
   }
   /// f(const common::SphereArray&, array) for each array (carried fields excluded).
   template <class F>

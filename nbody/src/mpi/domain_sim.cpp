@@ -152,7 +152,7 @@ void DomainSim::compute_forces(bool initial) {
     const double t0 = omp_get_wtime();
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime();
-    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_);
+    cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
     times_.neighbours += t1 - t0;
     times_.contacts += omp_get_wtime() - t1;
   }

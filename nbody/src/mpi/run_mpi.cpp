@@ -77,6 +77,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
 
   std::unique_ptr<DomainSim> sim;
   std::string info;
+  double energy0 = NAN;  // the run's initial accounted energy (a restart: the checkpoint's)
   if (restart.empty()) {
     Spheres sp = initial_spheres(sc);
     const SimConfig cfg = sim_config(sc, sp, &info);
@@ -107,6 +108,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     cfg.dt = dt0;
     if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
     st.gravity_block = every0;
+    energy0 = st.energy0;
     sim = std::make_unique<DomainSim>(comm, st, cfg);
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
   }
@@ -130,7 +132,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
                                                   restart.empty() ? std::nullopt : std::optional(sim->step_count()));
   });
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
-  double E0 = NAN;
+  double E0 = energy0, last_rel = 0.0;
   // one gathered state per output step: series row and/or snapshot
   auto output = [&](bool row, bool snap) {
     if (!row && !snap) return;
@@ -141,21 +143,19 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         count_contacts(st, cfg.walls, d);
         const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
         common::require_finite(e, 6, series_path, "energies at step " + std::to_string(st.step));
-        if (std::isnan(E0)) E0 = d.total();
+        if (std::isnan(E0)) E0 = d.accounted();
         common::SeriesRow r = series->row();
-        r.integer(st.step).num(st.time).num(d.kinetic).num(d.rotational);
-        r.num(d.potential_self).num(d.potential_uniform).num(d.elastic).num(d.total());
-        r.num(d.momentum.x()).num(d.momentum.y()).num(d.momentum.z());
-        r.num(d.angular_momentum.x()).num(d.angular_momentum.y()).num(d.angular_momentum.z());
-        r.integer(d.contacts).integer(d.wall_contacts).num(d.max_overlap_frac).num(progress.elapsed());
+        detail::series_row(r, st.step, st.time, d, E0, progress.elapsed(), false);
         series->write(r);
-        progress.update(st.step, st.time, cfg.dt, E0 != 0 ? std::fabs(d.total() / E0 - 1) : 0.0);
+        last_rel = detail::relative_energy_error(d, E0);
+        progress.update(st.step, st.time, cfg.dt, last_rel);
       }
       if (snap) write_snapshot(detail::snap_name(dir, st.step), st.sp, st.time, st.step, prov);
     });
   };
   auto checkpoint = [&](const std::string& path) {
-    const SimState st = sim->gather_state();
+    SimState st = sim->gather_state();
+    st.energy0 = E0;
     on_root(comm, [&] {
       write_checkpoint(path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
       spdlog::info("checkpoint at step {} -> {}", st.step, path);
@@ -241,7 +241,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     spdlog::info("MPI decomposition:\n{}", lines);
     spdlog::info("run complete: outputs published in {}", out_dir);
   });
-  progress.update(sim->step_count(), sim->time(), cfg.dt, 0.0, true);
+  progress.update(sim->step_count(), sim->time(), cfg.dt, last_rel, true);
   spdlog::info("done: {} steps; wall s: gravity {:.3f} ({} evals), neighbours {:.3f}, contacts {:.3f}, integrate "
                "{:.3f}, communication {:.3f}",
                t.steps, t.gravity, t.gravity_evals, t.neighbours, t.contacts, t.integrate, ds.wall_comm);

@@ -7,7 +7,8 @@
 ///   Hertz law:  C_n = alpha(e_n) sqrt(mu K sqrt(x)) (Tsuji, Tanaka & Ishida 1992, Powder
 ///               Technol. 71:239, eq. for eta_n), see normal_hertz.hpp.
 /// The dashpot may go tensile at the end of a contact (no clamp), as in pkdgrav.
-/// Stores no history and no energy (it only dissipates).
+/// Stores no history and no energy (it only dissipates): C_n (u.n)^2 h over a step of length h
+/// (the power the dashpot takes from the relative motion, with the velocities it acts on).
 #pragma once
 #include "ssdem/contact/part.hpp"
 
@@ -40,6 +41,7 @@ struct Damping : PartBase {
   static void normal_phase(const C& c, PairCtx& k, const H&) {
     k.cn = N::cn(c, k);
     k.FN += (k.cn * k.un_s) * k.n;
+    k.diss += k.cn * k.un_s * k.un_s * k.h;
   }
 };
 

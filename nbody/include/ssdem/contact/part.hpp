@@ -84,6 +84,7 @@ struct PairCtx {
   Vec3 FN;           ///< normal force of the normal phase
   double FNmag = 0.0;///< |FN|, the reference of the friction limits
   Vec3 F, Tp, Tn;    ///< results: force on p, torques on p and n
+  double diss = 0.0; ///< energy dissipated over the step h [J] (contact_law.hpp, "Dissipation")
 };
 
 /// Relative spin of n with respect to p, predicted (dw) and half-step (dwh); a wall does not spin.

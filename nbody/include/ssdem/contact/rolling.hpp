@@ -8,7 +8,9 @@
 ///   |k_r theta_r| <= mu_r a |F_N|; beyond it M_roll = the limit along theta_r, no dashpot, and
 ///   this step's increment is undone.   Torque on p: +M_roll, on n: -M_roll.
 /// k_n and C_n are those of the normal law (Hertz: the tangent stiffness 2 E* sqrt(R x)).
-/// History: theta_r [rad] (transported, flips). Energy: k_r |theta_r|^2 / 2.
+/// History: theta_r [rad] (transported, flips). Energy: k_r |theta_r|^2 / 2. Dissipated over a
+/// step: rolling, the dashpot's C_r |v_roll|^2 h; slipping, M_roll . v_roll,half h (the spring is
+/// left as it was, so the work done on the element is all lost).
 #pragma once
 #include <array>
 #include <cmath>
@@ -67,9 +69,13 @@ struct Rolling : PartBase {
     if (sp2 > crit * crit) {
       M = spring * (crit / std::sqrt(sp2));
       th -= vroll_h * k.h;
+      k.diss += M.dot(vroll_h) * k.h;  // the spring keeps its energy: all the work is dissipated
     } else {
       M = spring;
-      if constexpr ((PARTS & kPartDamping) != 0u) M += (k.cn * a * a) * vroll;
+      if constexpr ((PARTS & kPartDamping) != 0u) {
+        M += (k.cn * a * a) * vroll;
+        k.diss += k.cn * a * a * vroll.squaredNorm() * k.h;
+      }
     }
     k.Tp += M;
     if constexpr (!WALL) k.Tn -= M;

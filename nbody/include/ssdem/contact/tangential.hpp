@@ -7,7 +7,10 @@
 ///   torque on p: l_p n x F_T, on n: l_n n x F_T                   (S12 eqs 22-23)
 /// k_t and C_t come from the normal law (linear: (k_t/k_n) k_n; Hertz: Mindlin 8 G* sqrt(R x)).
 /// History: S [m] (tangent vector, transported, flips with the pair order).
-/// Energy: k_t |S|^2 / 2.
+/// Energy: k_t |S|^2 / 2. Dissipated over a step: sticking, the dashpot's C_t |u_t|^2 h; sliding,
+/// the work the relative motion did on the element minus the change of its stored energy,
+/// F_T . u_t,half h - k_t (|S_new|^2 - |S_old|^2) / 2 (the spring's energy that the cap removed
+/// plus the slider's and dashpot's work).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -72,7 +75,9 @@ struct Tangential : PartBase {
     const Vec3& n = k.n;
     const Vec3 ut = k.u - k.un_s * n;
     Vec3& S = h.vec(0);
-    S += (k.uh - k.uh.dot(n) * n) * k.h;
+    const double s_old2 = S.squaredNorm();
+    const Vec3 uth = k.uh - k.uh.dot(n) * n;
+    S += uth * k.h;
     double ct = 0.0;
     if constexpr ((PARTS & kPartDamping) != 0u) ct = N::ct(c, k);
     k.ct = ct;
@@ -88,6 +93,9 @@ struct Tangential : PartBase {
         const double utm = ut.norm();
         FT = utm > 0.0 ? Vec3((std::min(Fmax, ct * utm) / utm) * ut) : Vec3::Zero();
       }
+      k.diss += FT.dot(uth) * k.h - 0.5 * k.kt * (S.squaredNorm() - s_old2);
+    } else {
+      k.diss += ct * ut.squaredNorm() * k.h;
     }
     k.F += FT;
     const Vec3 nxF = n.cross(FT);

@@ -6,6 +6,7 @@
 ///   pkdgrav); beyond it M_tw = the limit, no dashpot, increment undone.
 ///   Torque on p: +M_tw, on n: -M_tw.  Needs the tangential part (k_t, C_t, mu_s).
 /// History: theta_q [rad] (scalar, symmetric in the pair order). Energy: k_q theta_q^2 / 2.
+/// Dissipated over a step: sticking, C_q (dw.n)^2 h; slipping, M_tw (dw.n)(half step) h.
 #pragma once
 #include <array>
 #include <cmath>
@@ -56,8 +57,10 @@ struct Twisting : PartBase {
     if (std::fabs(Mq) > crit) {
       Mq = std::copysign(crit, Mq);
       q -= dwhn * k.h;
+      k.diss += Mq * dwhn * k.h;  // the spring keeps its energy: all the work is dissipated
     } else if constexpr ((PARTS & kPartDamping) != 0u) {
       Mq += 2.0 * k.ct * a * a * dwn;
+      k.diss += 2.0 * k.ct * a * a * dwn * dwn * k.h;
     }
     k.Tp += Mq * n;
     if constexpr (!WALL) k.Tn -= Mq * n;
