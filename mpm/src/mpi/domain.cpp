@@ -175,7 +175,7 @@ void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>&
   std::vector<char> buf;
   for (std::size_t p = 0; p < ps.size(); ++p) pack_particle(ps, mats, p, buf);
   const double before = comm_.bytes_sent;
-  const std::vector<std::vector<char>> all = comm_.gather(buf, root);
+  const std::vector<std::vector<char>> all = comm_.gather_per_rank(buf, root);
   stats_.migrate_bytes += comm_.bytes_sent - before;
   out = ParticleSet{};
   out_mats.clear();
