@@ -14,12 +14,11 @@
 using namespace mpmfrag;
 using namespace mpmtest;
 
-TEST(MpmMpi, RanksWithoutParticlesAndAFlyingBodyMatchOneRank) {
-  // A small elastic sphere (3 cells across) flying at 400 m/s along a 30-cell
-  // column: the slabs of the other ranks start empty (every slab keeps 4 planes), the sphere
-  // crosses into them and the rebalancing follows it.
-  const auto setup = [] {
-    return mpmtest::setup_from(R"(
+namespace {
+// A small elastic sphere (3 cells across) flying at 400 m/s (and 30 m/s across) along a
+// 30-cell column.
+Setup column_setup() {
+  return mpmtest::setup_from(R"(
 [grid]
 domain_min = [0.0, 0.0, 0.0]
 domain_max = [0.3, 0.04, 0.04]
@@ -41,7 +40,14 @@ center = [0.05, 0.02, 0.02]
 radius = 0.015
 velocity = [400.0, 30.0, 0.0]
 )");
-  };
+}
+}  // namespace
+
+TEST(MpmMpi, RanksWithoutParticlesAndAFlyingBodyMatchOneRank) {
+  // A small elastic sphere (3 cells across) flying at 400 m/s along a 30-cell
+  // column: the slabs of the other ranks start empty (every slab keeps 4 planes), the sphere
+  // crosses into them and the rebalancing follows it.
+  const auto setup = column_setup;
   const double t_end = 4e-4;  // 16 cm
   mpi::DomainOptions o;
   o.rebalance_every = 5;
@@ -98,30 +104,7 @@ TEST(MpmMpi, DebrisJumpingEverySlabInOneStepAndACollapseOntoOneRankMatchOneRank)
   // serial run. The migration must deliver every particle across all the slabs in one step, the
   // last rank then holds all of them (the collapse onto one rank) and the others none; an
   // explicit rebalancing spreads them again. Fields against one rank as above.
-  const auto setup = [] {
-    return mpmtest::setup_from(R"(
-[grid]
-domain_min = [0.0, 0.0, 0.0]
-domain_max = [0.3, 0.04, 0.04]
-cell_size = 0.01
-[solver]
-scheme = "musl"
-[time]
-end = 1.0
-[[material]]
-name = "m"
-model = "elastic"
-density = 1000.0
-bulk_modulus = 1e8
-shear_modulus = 1e7
-[[body]]
-material = "m"
-shape = "sphere"
-center = [0.05, 0.02, 0.02]
-radius = 0.015
-velocity = [400.0, 30.0, 0.0]
-)");
-  };
+  const auto setup = column_setup;
   const double t_jump = 1e-5, t_end = 1.2e-4, jump = 0.12;
   const auto shift = [&](ParticleSet& ps) {
     for (std::size_t p = 0; p < ps.size(); ++p) ps.x[3 * p] += jump;
