@@ -129,12 +129,28 @@ void unpack_particles(const std::vector<char>& buf, const std::vector<MaterialSl
 void merge_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, const std::vector<char>& keep,
                      const Arrivals& in, ParticleSet& out, std::vector<MaterialSlot>& out_mats);
 
+/// Where each particle of a gathered set came from (DomainSolver::gather): its rank and its index
+/// there, with the cuts. A restart on as many ranks rebuilds every rank's particles in the same
+/// order from it (the same sums in the same order: bit-identical continuation).
+struct Layout {
+  std::vector<int> cut;              ///< the slab cuts P_0 .. P_R
+  std::vector<std::int32_t> rank;    ///< per particle of the gathered set: its rank
+  std::vector<std::uint64_t> index;  ///< per particle: its index on that rank
+};
+
 /// One rank's part of a distributed mpm-frag run.
 class DomainSolver {
  public:
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
   /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
+  /// Restart (restart_mpi.cpp): rank 0 holds every particle and the materials' state in
+  /// `setup` (a checkpoint's, in file order), the other ranks' `setup` gives only the materials'
+  /// names, styles and models (its particles are ignored). When `layout` (rank 0) was written on
+  /// as many ranks, every rank gets its particles back in their order and the cuts are the
+  /// layout's; otherwise the cuts balance the particle count and each rank keeps the file order.
+  /// Collective. Follow with local().resume(), not initialize().
+  DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt = {});
   /// Initial stress and wave speeds (collective).
   void initialize() { solver_->initialize(); }
   /// The global stable dt (the same on every rank).
@@ -144,8 +160,8 @@ class DomainSolver {
   /// Global totals, rank partials summed in rank order (collective).
   Diagnostics diagnostics();
   /// All particles on `root` (sorted by id within each material, material ranges contiguous);
-  /// other ranks get empty sets (collective).
-  void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats);
+  /// other ranks get empty sets (collective). `layout` (root): where each came from.
+  void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats, Layout* layout = nullptr);
   /// Imbalance max_r N_r / mean_r N_r (collective).
   double imbalance();
   /// Recompute the cuts from the particle histogram and migrate (collective).
@@ -162,6 +178,9 @@ class DomainSolver {
   /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
   void migrate();
   std::vector<long long> histogram() const;
+  void init_slabs(const Setup& setup);
+  void build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats);
+  int cell(double x) const;  ///< cell of coordinate x along the split axis
 
   Comm comm_;
   DomainOptions opt_;
