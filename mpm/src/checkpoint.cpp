@@ -19,6 +19,8 @@ constexpr const char* kFormat = "mpm-frag.checkpoint";
 constexpr std::int64_t kVersion = 1;
 constexpr std::size_t kTotals = 16;
 
+}  // namespace
+
 std::vector<double> pack_totals(const Diagnostics& d) {
   return {d.mass,
           d.momentum[0],
@@ -37,8 +39,7 @@ std::vector<double> pack_totals(const Diagnostics& d) {
           d.elastic,
           d.dissipated};
 }
-Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file, const std::string& name) {
-  if (v.size() != kTotals) throw common::InputError(file, "/mpm_state", name + " must hold " + std::to_string(kTotals) + " numbers");
+Diagnostics unpack_totals(const std::vector<double>& v) {
   Diagnostics d;
   d.mass = v[0];
   d.momentum = Eigen::Vector3d(v[1], v[2], v[3]);
@@ -53,6 +54,13 @@ Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file,
   d.elastic = v[14];
   d.dissipated = v[15];
   return d;
+}
+
+namespace {
+
+Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file, const std::string& name) {
+  if (v.size() != kTotals) throw common::InputError(file, "/mpm_state", name + " must hold " + std::to_string(kTotals) + " numbers");
+  return mpmfrag::unpack_totals(v);
 }
 
 // The series text as little-endian uint64 words (the h5 wrappers write numbers, not byte strings).

@@ -68,6 +68,12 @@ void write_checkpoint(const std::string& path, const ParticleSet& ps, const std:
 /// reads further groups (called with the open file after /mpm_state was read).
 Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra = {});
 
+/// The 16 numbers of a Diagnostics as a checkpoint stores them (initial_totals): mass, momentum
+/// (3), angular momentum (3), kinetic, internal, removed count, removed mass, work_dev,
+/// heat_shock, heat_transfer, elastic, dissipated; and back (`v` must hold 16).
+std::vector<double> pack_totals(const Diagnostics& d);
+Diagnostics unpack_totals(const std::vector<double>& v);
+
 /// Give the scene's materials (`mats`, from build_setup) the checkpoint's particle ranges and
 /// state arrays. Throws InputError naming `path` if names, order or state fields differ.
 void apply_materials(const Checkpoint& ck, std::vector<MaterialSlot>& mats, const std::string& path);

@@ -42,8 +42,6 @@ void on_root(Comm& comm, const std::function<void()>& f) {
   if (head[0] == 3) throw common::NumericalError(msg);
   throw common::IoError(msg);
 }
-
-constexpr int kScalars = 8 + 16;
 }  // namespace
 
 void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const DriverState& driver,
@@ -95,15 +93,11 @@ RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const commo
   // the scalars of SolverResume and DriverState (outflow records and drive loads: none on MPI)
   SolverResume& r = d.ck.solver;
   DriverState& v = d.ck.driver;
-  double s[kScalars] = {r.time, static_cast<double>(r.step), r.max_speed, r.min_node_mass,
-                        v.next_snapshot, v.first_dt, v.min_dt, v.max_dt};
-  const Diagnostics& t = v.initial;
-  const double tot[16] = {t.mass, t.momentum[0], t.momentum[1], t.momentum[2], t.angular_momentum[0],
-                          t.angular_momentum[1], t.angular_momentum[2], t.kinetic, t.internal,
-                          static_cast<double>(t.removed), t.removed_mass, t.work_dev, t.heat_shock,
-                          t.heat_transfer, t.elastic, t.dissipated};
-  std::copy_n(tot, 16, s + 8);
-  MPI_Bcast(s, kScalars, MPI_DOUBLE, 0, comm.c);
+  std::vector<double> s = {r.time, static_cast<double>(r.step), r.max_speed, r.min_node_mass,
+                           v.next_snapshot, v.first_dt, v.min_dt, v.max_dt};
+  const std::vector<double> tot = pack_totals(v.initial);
+  s.insert(s.end(), tot.begin(), tot.end());
+  MPI_Bcast(s.data(), static_cast<int>(s.size()), MPI_DOUBLE, 0, comm.c);
   r.time = s[0];
   r.step = static_cast<std::int64_t>(s[1]);
   r.max_speed = s[2];
@@ -112,19 +106,7 @@ RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const commo
   v.first_dt = s[5];
   v.min_dt = s[6];
   v.max_dt = s[7];
-  const double* u = s + 8;
-  v.initial.mass = u[0];
-  v.initial.momentum = Eigen::Vector3d(u[1], u[2], u[3]);
-  v.initial.angular_momentum = Eigen::Vector3d(u[4], u[5], u[6]);
-  v.initial.kinetic = u[7];
-  v.initial.internal = u[8];
-  v.initial.removed = static_cast<std::size_t>(u[9]);
-  v.initial.removed_mass = u[10];
-  v.initial.work_dev = u[11];
-  v.initial.heat_shock = u[12];
-  v.initial.heat_transfer = u[13];
-  v.initial.elastic = u[14];
-  v.initial.dissipated = u[15];
+  v.initial = unpack_totals(std::vector<double>(s.begin() + 8, s.end()));
   return d;
 }
 

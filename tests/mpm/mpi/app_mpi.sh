@@ -3,7 +3,7 @@
 # run (the same groups, datasets and shapes, `h5ls -r`), the series the same header and rows, a
 # second NP-rank run writes bit-identical snapshots (h5diff, provenance excluded: it holds the
 # command line and directory), and what is not distributed yet is refused with exit 2
-# (--restart, grid.outflow = "remove").
+# (grid.outflow = "remove"), and --restart of a missing file with exit 2.
 # Usage: app_mpi.sh <mpm-frag> <scene> <NP> <mpirun...>
 set -euo pipefail
 exe=$1 scene=$2 np=$3
@@ -38,4 +38,4 @@ rc2=$?
 set -e
 [ "$rc" -eq 2 ] || fail "--restart on $np ranks: exit $rc, expected 2"
 [ "$rc2" -eq 2 ] || fail "grid.outflow = remove on $np ranks: exit $rc2, expected 2"
-echo "--restart and outflow removal on $np ranks refused (exit 2)"
+echo "--restart of a missing file and outflow removal on $np ranks refused (exit 2)"

@@ -57,6 +57,23 @@ double max_state(const std::string& path, const std::string& name) {
   return m;
 }
 
+/// Run to kImpactEnd and keep the end state (gathered to rank 0 for a DomainSolver).
+Result finish(Solver& s) {
+  Result r;
+  run_serial(s, kImpactEnd);
+  r.ps = s.particles();
+  r.mats = s.materials();
+  r.d1 = s.diagnostics();
+  return r;
+}
+Result finish(DomainSolver& dom) {
+  Result r;
+  run_domain(dom, kImpactEnd);
+  r.d1 = dom.diagnostics();
+  dom.gather(0, r.ps, r.mats);
+  return r;
+}
+
 /// The uninterrupted run on n ranks (the serial Solver for n = 1), writing the checkpoint at
 /// kCheck to `path` on the way. Result on world rank 0.
 Result write_and_run(int n, const std::string& path) {
@@ -66,10 +83,7 @@ Result write_and_run(int n, const std::string& path) {
       Solver s = solver_from(impact_setup());
       run_serial(s, kCheck);
       write_checkpoint(path, s, DriverState{}, kProv, "");
-      run_serial(s, kImpactEnd);
-      r.ps = s.particles();
-      r.mats = s.materials();
-      r.d1 = s.diagnostics();
+      r = finish(s);
     }
     MPI_Barrier(MPI_COMM_WORLD);
     return r;
@@ -80,9 +94,7 @@ Result write_and_run(int n, const std::string& path) {
     dom.initialize();
     run_domain(dom, kCheck);
     mpi::write_checkpoint_mpi(dom, path, DriverState{}, kProv, "");
-    run_domain(dom, kImpactEnd);
-    r.d1 = dom.diagnostics();
-    dom.gather(0, r.ps, r.mats);
+    r = finish(dom);
     MPI_Comm_free(&c);
   }
   MPI_Barrier(MPI_COMM_WORLD);
@@ -99,10 +111,7 @@ Result restart_and_run(int m, const std::string& path) {
       apply_materials(ck, st.materials, path);
       Solver s(st.solver, st.grid, std::move(ck.particles), std::move(st.materials));
       s.resume(std::move(ck.solver));
-      run_serial(s, kImpactEnd);
-      r.ps = s.particles();
-      r.mats = s.materials();
-      r.d1 = s.diagnostics();
+      r = finish(s);
     }
     MPI_Barrier(MPI_COMM_WORLD);
     return r;
@@ -120,9 +129,7 @@ Result restart_and_run(int m, const std::string& path) {
     }
     DomainSolver dom(c, st, rd.layout, impact_options());
     dom.local().resume(rd.ck.solver);
-    run_domain(dom, kImpactEnd);
-    r.d1 = dom.diagnostics();
-    dom.gather(0, r.ps, r.mats);
+    r = finish(dom);
     MPI_Comm_free(&c);
   }
   MPI_Barrier(MPI_COMM_WORLD);

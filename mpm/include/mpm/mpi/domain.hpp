@@ -49,10 +49,10 @@
 /// momentum to round-off of the force sums (the force on a shared node is the same sum).
 ///
 /// ## Not yet (first step)
-/// Snapshots are gathered to rank 0 and written by the serial writer (one file, serial layout,
-/// particles sorted by id within each material); no collective HDF5, no checkpoints or restart
-/// across rank counts, no velocity-driven bodies, no outflow removal; every rank builds the full
-/// scene and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
+/// Snapshots and checkpoints are gathered to rank 0 and written by the serial writer (one file,
+/// serial layout, particles sorted by id within each material; checkpoint_mpi.hpp: restart on any
+/// rank count); no collective HDF5, no velocity-driven bodies, no outflow removal; every rank
+/// builds the full scene and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
 /// would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
@@ -144,7 +144,7 @@ class DomainSolver {
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
   /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
-  /// Restart (restart_mpi.cpp): rank 0 holds every particle and the materials' state in
+  /// Restart (checkpoint_mpi.cpp): rank 0 holds every particle and the materials' state in
   /// `setup` (a checkpoint's, in file order), the other ranks' `setup` gives only the materials'
   /// names, styles and models (its particles are ignored). When `layout` (rank 0) was written on
   /// as many ranks, every rank gets its particles back in their order and the cuts are the
