@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# mpm-frag checkpoints on MPI end to end (label mpi): a run on NP ranks stopped at half time
-# (its checkpoint at the end) and continued with --restart on NP ranks writes a final snapshot
-# bit-identical to the uninterrupted NP-rank run (h5diff, provenance excluded) and the same series;
+# mpm-frag checkpoints on MPI end to end (label mpi): a run on NP ranks stopped at half time, or
+# after step 50 between two snapshots (its checkpoint at the end), and continued with --restart on
+# NP ranks writes a final snapshot bit-identical to the uninterrupted NP-rank run (h5diff,
+# provenance excluded) and the same series;
 # continued on each of the rank counts M given (1: the serial driver), the final snapshot agrees
 # with it to 1e-6 in every value (h5diff -d; tests/mpm/mpi/test_mpm_mpi_restart.cpp has the tight
 # per-field tolerances); a one-rank checkpoint continues on NP ranks likewise.
@@ -26,6 +27,12 @@ ref="$(final full)"
 h5diff --exclude-path /provenance "$ref" "$(final half)" >/dev/null || fail "restart $np -> $np: final snapshot not bit-identical"
 cmp -s "$w"/full/*_series.csv "$w"/half/*_series.csv || fail "restart $np -> $np: series differs"
 echo "restart $np -> $np ranks: final snapshot $(basename "$ref") and series bit-identical to the uninterrupted run"
+# a checkpoint between snapshots (time.max_steps: the run stops after step 50 with a checkpoint)
+mpm "$np" mid 0.002 --set time.max_steps=50
+mpm "$np" mid 0.002 --restart "$(ls "$w"/mid/*_checkpoint.h5)"
+h5diff --exclude-path /provenance "$ref" "$(final mid)" >/dev/null || fail "restart $np -> $np after step 50: final snapshot not bit-identical"
+cmp -s "$w"/full/*_series.csv "$w"/mid/*_series.csv || fail "restart $np -> $np after step 50: series differs"
+echo "restart $np -> $np ranks after step 50 (between snapshots): bit-identical"
 for m in $ms; do
   mpm "$m" "r$m" 0.002 --restart "$ck"
   [ "$(basename "$ref")" = "$(basename "$(final "r$m")")" ] || fail "restart $np -> $m: final step differs"
