@@ -50,7 +50,13 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
   std::vector<MaterialSlot> mats;
   Layout layout;
   dom.gather(0, ps, mats, &layout);
-  const SolverResume r = dom.local().resume_state();
+  SolverResume r = dom.local().resume_state();
+  OutflowRecord out = dom.gather_outflow(0);
+  r.outflow = std::move(out.ps);
+  r.outflow_time = std::move(out.time);
+  r.outflow_fields = std::move(out.fields);
+  r.outflow_init = std::move(out.init);
+  r.outflow_totals = out.totals;
   const common::GridInfo& grid = dom.local().grid();
   on_root(dom.comm(), [&] {
     auto hook = [&](long long fid) {
@@ -59,6 +65,8 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
       h5::write_attr(g, "cuts", std::vector<std::int64_t>(layout.cut.begin(), layout.cut.end()));
       h5::write_dataset(g, "rank", layout.rank.data(), layout.rank.size(), 1, "1");
       h5::write_dataset(g, "index", layout.index.data(), layout.index.size(), 1, "1");
+      const std::size_t nt = pack_totals(Diagnostics{}).size();
+      h5::write_dataset(g, "outflow_totals", out.rank_totals.data(), out.rank_totals.size() / nt, nt, "SI");
     };
     write_checkpoint(path, ps, mats, grid, r, driver, prov, identity, hook);
   });
@@ -75,6 +83,8 @@ RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const commo
       d.layout.cut.assign(cuts.begin(), cuts.end());
       d.layout.rank = h5::read_i32(f, "mpm_state/mpi/rank", -1, 1, path);
       d.layout.index = h5::read_u64(f, "mpm_state/mpi/index", -1, 1, path);
+      const long long nr = static_cast<long long>(d.layout.cut.size()) - 1;
+      d.layout.outflow_totals = h5::read_doubles(f, "mpm_state/mpi/outflow_totals", nr, pack_totals(Diagnostics{}).size(), path);
     };
     d.ck = read_checkpoint(path, hook);
     const common::RunIdentity theirs = common::RunIdentity::parse(d.ck.identity);
@@ -108,6 +118,27 @@ RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const commo
   v.max_dt = s[7];
   v.initial = unpack_totals(std::vector<double>(s.begin() + 8, s.end()));
   return d;
+}
+
+void resume(DomainSolver& dom, RestartData& rd) {
+  Comm& comm = dom.comm();
+  // the removed particles' totals: each rank its own when as many ranks wrote the file (the
+  // same sums in the same order), else all on rank 0; the record itself stays on rank 0
+  const std::size_t nt = pack_totals(Diagnostics{}).size();
+  std::vector<double> all;
+  if (comm.rank == 0) {
+    if (rd.layout.cut.size() == static_cast<std::size_t>(comm.size) + 1) {
+      all = rd.layout.outflow_totals;
+    } else {
+      all.assign(nt * static_cast<std::size_t>(comm.size), 0.0);
+      const std::vector<double> t = pack_totals(rd.ck.solver.outflow_totals);
+      std::copy(t.begin(), t.end(), all.begin());
+    }
+  }
+  std::vector<double> mine(nt);
+  MPI_Scatter(all.data(), static_cast<int>(nt), MPI_DOUBLE, mine.data(), static_cast<int>(nt), MPI_DOUBLE, 0, comm.c);
+  rd.ck.solver.outflow_totals = unpack_totals(mine);
+  dom.local().resume(std::move(rd.ck.solver));
 }
 
 DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt)

@@ -73,7 +73,10 @@ void DomainSolver::migrate() {
     for (int d = 0; d < 3; ++d) {
       const double x = ps.x[3 * p + d];
       const AxisWeights w = axis_weights(s.config().shape, x, grid_.origin[d], grid_.cell_size[d], ps.half_width[3 * p + d]);
-      if (!std::isfinite(x) || w.first < 0 || w.first + npa > grid_.shape[d]) ok = false;
+      if (!std::isfinite(x)) ok = false;
+      // outside the grid: a failure, or with outflow removal the owner of its (clamped) cell
+      // removes it in the step (outflow.cpp)
+      if ((w.first < 0 || w.first + npa > grid_.shape[d]) && !s.config().outflow_remove) ok = false;
     }
     if (!ok) {
       bad = std::min(bad, p);
@@ -144,6 +147,15 @@ void DomainSolver::rebalance() {
 
 void DomainSolver::step(double dt) {
   const std::int64_t k = solver_->step_count();
+  if (solver_->config().outflow_remove) {  // a rank may have removed all its particles, not all ranks
+    long long n = static_cast<long long>(solver_->particles().size());
+    comm_.sum(&n, 1);
+    if (n == 0) {
+      std::ostringstream os;
+      os << "all particles left the grid by t = " << solver_->time() << " s, step " << k;
+      throw SolverFailure(os.str(), true);
+    }
+  }
   if (opt_.rebalance_every > 0 && k > 0 && k % opt_.rebalance_every == 0 && imbalance() > opt_.imbalance_threshold)
     rebalance();
   else

@@ -49,7 +49,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       st.particles = ParticleSet{};
     }
     domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, rd.layout);
-    domp->local().resume(std::move(rd.ck.solver));
+    resume(*domp, rd);
     drv = std::move(rd.ck.driver);
     if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
     spdlog::info("restarted from {} ({} ranks) at step {} (t = {:.6g} s)", restart,
@@ -63,7 +63,10 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   comm.sum(&ntot, 1);
   const Slabs& sl = dom.slabs();
   std::string cuts;
-  for (const int c : sl.cut) cuts += (cuts.empty() ? "" : " ") + std::to_string(c);
+  for (const int c : sl.cut) {
+    if (!cuts.empty()) cuts += ' ';
+    cuts += std::to_string(c);
+  }
   spdlog::info("mpm-frag (MPI): {} particles on {} ranks x {} threads, grid {}x{}x{} nodes cut along axis {} into slabs at planes {}",
                ntot, size, omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
                "xyz"[sl.axis], cuts);
@@ -85,6 +88,20 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     const common::ParticleSnapshot snap = make_snapshot(ps, mats, st.grid, dom.time(), dom.step_count());
     common::write_particle_snapshot(path, snap, prov);
     sum.last_snapshot = path;
+  };
+  // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record gathered
+  // to rank 0, in <prefix>_outflow.h5 next to each snapshot (as on one rank).
+  std::size_t reported_out = 0;
+  auto write_outflow = [&]() {
+    if (!st.solver.outflow_remove) return;
+    const OutflowRecord out = dom.gather_outflow(0);
+    if (rank != 0 || out.ps.size() == 0) return;
+    const std::string path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_outflow.h5")).string();
+    common::write_particle_snapshot(path, make_outflow_snapshot(out.ps, out.time, out.fields, st.grid, dom.time(), dom.step_count()), prov);
+    if (out.ps.size() != reported_out)
+      spdlog::info("outflow: {} particles ({:.4g} kg) have left the grid by t = {:.6g} s -> {}", out.ps.size(),
+                   out.totals.mass, dom.time(), path);
+    reported_out = out.ps.size();
   };
   const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
   std::unique_ptr<SeriesWriter> series;
@@ -133,7 +150,10 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
         if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
       }
       if (at_snap) {
-        if (!at_end) write_snap();
+        if (!at_end) {  // the final snapshot follows the loop
+          write_snap();
+          write_outflow();
+        }
         drv.next_snapshot += rc.snapshot_interval;  // also at the end: a continuation to a later end
       }
       // a signal or the wall-clock interval may reach the ranks at different steps: act on the
@@ -142,6 +162,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       dom.comm().max(due, 2);
       if (due[0] > 0) {
         checkpoint();
+        write_outflow();
         if (series) series->commit();
         const int sig = static_cast<int>(due[0]);
         spdlog::warn("interrupted by signal {} at step {}; continue with --restart {}", sig, dom.step_count(), ckpt_path);
@@ -156,6 +177,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       }
     }
   } catch (const SolverFailure& f) {  // thrown on every rank (collective failure flags)
+    write_outflow();
     if (series) series->commit();
     throw common::NumericalError(std::string(f.what()), "");
   }
@@ -163,6 +185,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   sum.max_dt = drv.max_dt;
   sum.final = dom.diagnostics();
   write_snap();
+  write_outflow();
   checkpoint();
   if (series) series->commit();
   sum.series_path = series_path;

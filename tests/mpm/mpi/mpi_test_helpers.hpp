@@ -78,6 +78,20 @@ inline Diff compare(const ParticleSet& a, const std::vector<MaterialSlot>& ma, c
   return d;
 }
 
+// The two materials of the MPI test scenes: a Tonge–Ramesh rock and an elastic solid.
+inline const std::string kRockAndSoft = R"(
+[[material]]
+name = "rock"
+model = "tonge_ramesh"
+density = 2700.0
+[[material]]
+name = "soft"
+model = "elastic"
+density = 1000.0
+bulk_modulus = 1e8
+shear_modulus = 1e7
+)";
+
 // ------------------------------------------------------------------------------------------
 // A Tonge–Ramesh rock sphere moving at 150 m/s hit by an elastic sphere moving at -300 m/s
 // (tests/common/data/tiny_impact.toml without its outflow body): two materials, the style state,
@@ -95,16 +109,7 @@ flip = 0.99
 artificial_viscosity.enabled = true
 [time]
 end = 2e-4
-[[material]]
-name = "rock"
-model = "tonge_ramesh"
-density = 2700.0
-[[material]]
-name = "soft"
-model = "elastic"
-density = 1000.0
-bulk_modulus = 1e8
-shear_modulus = 1e7
+)" + kRockAndSoft + R"(
 [[body]]
 material = "rock"
 shape = "sphere"

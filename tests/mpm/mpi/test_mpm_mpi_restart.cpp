@@ -128,7 +128,7 @@ Result restart_and_run(int m, const std::string& path) {
       st.particles = ParticleSet{};
     }
     DomainSolver dom(c, st, rd.layout, impact_options());
-    dom.local().resume(rd.ck.solver);
+    mpi::resume(dom, rd);
     r = finish(dom);
     MPI_Comm_free(&c);
   }

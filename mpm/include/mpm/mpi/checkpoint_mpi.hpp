@@ -7,10 +7,12 @@
 /// the serial writer (mpm/checkpoint.hpp) writes the file: the serial layout, plus the group
 ///   /mpm_state/mpi   attrs ranks (N), cuts (the N+1 slab cuts, node planes);
 ///                    datasets rank (int32) and index (uint64): per particle of the file, the
-///                    rank that held it and its index there
+///                    rank that held it and its index there; outflow_totals (ranks x 16): each
+///                    rank's totals of the particles it removed at the grid edge (pack_totals)
 /// which only a restart on N ranks uses. The solver's carried state (SolverResume: time, step,
 /// the max signal speed of the next dt, m_min) is the same on every rank (global reductions) and
-/// is taken from rank 0; outflow records and drive loads do not exist on several ranks.
+/// is taken from rank 0; the outflow records are gathered (DomainSolver::gather_outflow); drive
+/// loads do not exist on several ranks.
 ///
 /// Reading (collective): rank 0 reads the file (and checks the run identity); the scalars of
 /// SolverResume and DriverState are broadcast; the particles are distributed by
@@ -44,5 +46,10 @@ struct RestartData {
 /// Read `path` on rank 0 and broadcast its scalars; InputError on every rank if it is not a
 /// checkpoint or another run's (identity `ident`).
 RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const common::RunIdentity& ident);
+
+/// Continue `dom` (built from `rd` by DomainSolver(comm, setup, rd.layout)) with the solver's
+/// carried state (collective; instead of initialize()): the outflow record goes to rank 0 and
+/// the removed particles' totals to the ranks that held them (as many ranks) or to rank 0.
+void resume(DomainSolver& dom, RestartData& rd);
 
 }  // namespace mpmfrag::mpi

@@ -25,7 +25,8 @@
 ///      material after the kept particles, in (source rank, sender order): material ranges stay
 ///      contiguous and the order is a function of the state alone (deterministic). A particle
 ///      whose stencil leaves the global grid stops the run on every rank (SolverFailure, state
-///      intact).
+///      intact); with outflow removal (grid.outflow = "remove") it goes to the owner of its clamped
+///      cell, whose Solver removes it in the step and keeps its record (outflow_mpi.cpp).
 ///   2. every `rebalance_every` steps: imbalance I = max_r N_r / mean_r N_r; if I > threshold the
 ///      cuts are recomputed from the global histogram n(c) (an integer allreduce: exact), each
 ///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.).
@@ -51,8 +52,8 @@
 /// ## Not yet (first step)
 /// Snapshots and checkpoints are gathered to rank 0 and written by the serial writer (one file,
 /// serial layout, particles sorted by id within each material; checkpoint_mpi.hpp: restart on any
-/// rank count); no collective HDF5, no velocity-driven bodies, no outflow removal; every rank
-/// builds the full scene and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
+/// rank count); no collective HDF5, no velocity-driven bodies; every rank builds the full scene
+/// and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
 /// would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
@@ -136,6 +137,20 @@ struct Layout {
   std::vector<int> cut;              ///< the slab cuts P_0 .. P_R
   std::vector<std::int32_t> rank;    ///< per particle of the gathered set: its rank
   std::vector<std::uint64_t> index;  ///< per particle: its index on that rank
+  std::vector<double> outflow_totals;  ///< per rank: totals of its removed particles (pack_totals)
+};
+
+/// The outflow records of every rank on one (DomainSolver::gather_outflow, outflow_mpi.cpp):
+/// the removed particles sorted by (removal time, id), their removal times and output state
+/// fields (merged by name; `init`: each field's initial value), the totals of the removed
+/// particles (rank partials summed in rank order) and each rank's partial (pack_totals, rank-major).
+struct OutflowRecord {
+  ParticleSet ps;
+  std::vector<double> time;
+  std::vector<common::Field> fields;
+  std::vector<double> init;
+  Diagnostics totals;
+  std::vector<double> rank_totals;
 };
 
 /// One rank's part of a distributed mpm-frag run.
@@ -162,6 +177,8 @@ class DomainSolver {
   /// All particles on `root` (sorted by id within each material, material ranges contiguous);
   /// other ranks get empty sets (collective). `layout` (root): where each came from.
   void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats, Layout* layout = nullptr);
+  /// Every rank's outflow record on `root` (empty elsewhere; collective).
+  OutflowRecord gather_outflow(int root);
   /// Imbalance max_r N_r / mean_r N_r (collective).
   double imbalance();
   /// Recompute the cuts from the particle histogram and migrate (collective).

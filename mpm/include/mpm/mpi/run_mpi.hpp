@@ -4,7 +4,8 @@
 /// 0 and written there by the serial writer (one file per snapshot, the serial layout, particles
 /// sorted by id within each material), series.csv rows from the global diagnostics, checkpoints
 /// (periodic, at the end, on SIGTERM/SIGINT) written the same way and --restart from a checkpoint
-/// of any rank count (checkpoint_mpi.hpp); no collective parallel HDF5 yet, no last-good-state
+/// of any rank count (checkpoint_mpi.hpp), the outflow file (every rank's record gathered); no
+/// collective parallel HDF5 yet, no last-good-state
 /// file, files written straight into output.directory (no staging directory). A failure stops
 /// every rank (exit 3); a signal stops every rank after the same step (exit 128 + signal).
 #pragma once
