@@ -155,6 +155,11 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layo
   if (same) {
     if (root) slabs_.cut = layout.cut;
     MPI_Bcast(slabs_.cut.data(), comm_.size + 1, MPI_INT, 0, comm_.c);
+    bool ok = slabs_.cut.front() == 0 && slabs_.cut.back() == grid_.shape[slabs_.axis];
+    for (int r = 0; r < comm_.size; ++r) ok = ok && slabs_.cut[r + 1] - slabs_.cut[r] >= slabs_.min_width;
+    if (!ok)  // every rank holds the same cuts: every rank throws
+      throw common::InputError("checkpoint: /mpm_state/mpi cuts do not split this scene's grid into slabs of at least " +
+                               std::to_string(slabs_.min_width) + " planes");
   } else {
     std::vector<long long> count(grid_.shape[slabs_.axis], 0);
     for (std::size_t p = 0; p < n; ++p) ++count[cell(ps.x[3 * p + slabs_.axis])];
