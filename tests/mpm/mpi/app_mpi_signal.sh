@@ -18,7 +18,8 @@ for _ in $(seq 1 600); do  # the initial snapshot: the ranks are stepping
   ls "$w"/sig/*_000000.h5 >/dev/null 2>&1 && break
   sleep 0.05
 done
-rank_pid=$(pgrep -P "$mpirun_pid" | tail -1)
+# a rank: a child of mpirun (from /proc, no procps needed)
+rank_pid=$(grep -l "^PPid:[[:space:]]*$mpirun_pid\$" /proc/[0-9]*/status 2>/dev/null | tail -1 | cut -d/ -f3 || true)
 [ -n "$rank_pid" ] || fail "no rank process under mpirun $mpirun_pid"
 kill -TERM "$rank_pid"
 set +e
