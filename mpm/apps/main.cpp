@@ -30,8 +30,9 @@ int main(int argc, char** argv) {
     return sum.signal ? 128 + sum.signal : 0;
   });
 #ifdef MPM_MPI
-  // a failure stops every rank (a rank left in a collective would wait for ever)
-  if (rc != 0 && ranks > 1) MPI_Abort(MPI_COMM_WORLD, rc);
+  // a failure stops every rank (a rank left in a collective would wait for ever); a signal
+  // (exit 128 + signal) is acted on by every rank after the same step: they finish together
+  if (rc != 0 && rc < 128 && ranks > 1) MPI_Abort(MPI_COMM_WORLD, rc);
   MPI_Finalize();
 #endif
   return rc;

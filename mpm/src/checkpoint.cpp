@@ -19,6 +19,8 @@ constexpr const char* kFormat = "mpm-frag.checkpoint";
 constexpr std::int64_t kVersion = 1;
 constexpr std::size_t kTotals = 16;
 
+}  // namespace
+
 std::vector<double> pack_totals(const Diagnostics& d) {
   return {d.mass,
           d.momentum[0],
@@ -37,8 +39,7 @@ std::vector<double> pack_totals(const Diagnostics& d) {
           d.elastic,
           d.dissipated};
 }
-Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file, const std::string& name) {
-  if (v.size() != kTotals) throw common::InputError(file, "/mpm_state", name + " must hold " + std::to_string(kTotals) + " numbers");
+Diagnostics unpack_totals(const std::vector<double>& v) {
   Diagnostics d;
   d.mass = v[0];
   d.momentum = Eigen::Vector3d(v[1], v[2], v[3]);
@@ -53,6 +54,13 @@ Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file,
   d.elastic = v[14];
   d.dissipated = v[15];
   return d;
+}
+
+namespace {
+
+Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file, const std::string& name) {
+  if (v.size() != kTotals) throw common::InputError(file, "/mpm_state", name + " must hold " + std::to_string(kTotals) + " numbers");
+  return mpmfrag::unpack_totals(v);
 }
 
 // The series text as little-endian uint64 words (the h5 wrappers write numbers, not byte strings).
@@ -110,9 +118,14 @@ std::size_t cols_of(hid_t f, const std::string& name, const std::string& file) {
 
 void write_checkpoint(const std::string& path, const Solver& solver, const DriverState& driver,
                       const common::Provenance& prov, const std::string& identity) {
-  const SolverResume r = solver.resume_state();
-  const common::ParticleSnapshot snap =
-      make_snapshot(solver.particles(), solver.materials(), solver.grid(), r.time, r.step);
+  write_checkpoint(path, solver.particles(), solver.materials(), solver.grid(), solver.resume_state(), driver, prov,
+                   identity);
+}
+
+void write_checkpoint(const std::string& path, const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
+                      const common::GridInfo& grid, const SolverResume& r, const DriverState& driver,
+                      const common::Provenance& prov, const std::string& identity, const common::H5Hook& extra) {
+  const common::ParticleSnapshot snap = make_snapshot(ps, mats, grid, r.time, r.step);
   common::check_output_particles(snap, path);  // never Inf/NaN in an output (exit 3)
   auto hook = [&](long long fid) {
     const hid_t f = static_cast<hid_t>(fid);
@@ -139,9 +152,8 @@ void write_checkpoint(const std::string& path, const Solver& solver, const Drive
     h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
     {
       h5::Handle p = h5::create_group(g, "particles");
-      write_set(p, solver.particles());
+      write_set(p, ps);
     }
-    const std::vector<MaterialSlot>& mats = solver.materials();
     h5::write_attr(g, "material_count", static_cast<std::int64_t>(mats.size()));
     h5::Handle mg = h5::create_group(g, "materials");
     for (std::size_t m = 0; m < mats.size(); ++m) {
@@ -175,11 +187,12 @@ void write_checkpoint(const std::string& path, const Solver& solver, const Drive
     const std::vector<std::uint64_t> words = pack_bytes(driver.series);
     h5::write_attr(g, "series_bytes", static_cast<std::int64_t>(driver.series.size()));
     h5::write_dataset(g, "series", words.data(), words.size(), 1, "1");
+    if (extra) extra(fid);
   };
   common::write_particle_snapshot(path, snap, prov, hook);
 }
 
-Checkpoint read_checkpoint(const std::string& path) {
+Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra) {
   Checkpoint ck;
   bool found = false;
   auto hook = [&](long long fid) {
@@ -258,6 +271,7 @@ Checkpoint read_checkpoint(const std::string& path) {
     if (bytes < 0 || static_cast<std::uint64_t>(bytes) > 8 * words.size())
       throw common::InputError(path, "/mpm_state/series", "series_bytes exceeds the stored words");
     ck.driver.series = unpack_bytes(words, static_cast<std::size_t>(bytes));
+    if (extra) extra(fid);
   };
   const common::ParticleSnapshot snap = common::read_particle_snapshot(path, hook);
   if (!found) throw common::InputError(path + ": not an mpm-frag checkpoint (no /mpm_state group)");

@@ -42,14 +42,15 @@ std::int64_t snap_step(const std::string& prefix, const std::string& n) {
   return std::stoll(digits);
 }
 
-/// Scene keys a restart may change (they do not alter the computed states): the run identity
-/// leaves them out. output.snapshot_interval stays in: snapshot times cut the time steps.
+// output.snapshot_interval stays in the run identity: snapshot times cut the time steps.
 const std::vector<std::string> kRestartFree = {"time.end",           "time.max_steps",         "output.directory",
                                                "output.series_every", "output.progress_interval",
                                                "output.checkpoint_every", "output.checkpoint_wall", "run.threads",
                                                "run.backup_every"};
 
 }  // namespace
+
+const std::vector<std::string>& restart_free_keys() { return kRestartFree; }
 
 RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, const std::string& restart) {
   check_memory(scene);  // exit 2 naming the keys, before the grid or the particles are allocated

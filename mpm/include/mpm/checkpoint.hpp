@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "common/particle_file.hpp"
 #include "common/provenance.hpp"
 #include "mpm/solver.hpp"
 
@@ -56,9 +57,22 @@ struct Checkpoint {
 /// IoError; NumericalError if a particle value is not finite (never written).
 void write_checkpoint(const std::string& path, const Solver& solver, const DriverState& driver,
                       const common::Provenance& prov, const std::string& identity);
+/// The same from the parts of a solver's state (`ps`, `mats` and `resume` as Solver::particles(),
+/// materials() and resume_state() give them; the MPI build passes the particles gathered from
+/// its ranks). `extra` writes further groups into the file (the MPI build: /mpm_state/mpi).
+void write_checkpoint(const std::string& path, const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
+                      const common::GridInfo& grid, const SolverResume& resume, const DriverState& driver,
+                      const common::Provenance& prov, const std::string& identity, const common::H5Hook& extra = {});
 
-/// Read and validate a checkpoint. Throws InputError naming the file (and dataset).
-Checkpoint read_checkpoint(const std::string& path);
+/// Read and validate a checkpoint. Throws InputError naming the file (and dataset). `extra`
+/// reads further groups (called with the open file after /mpm_state was read).
+Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra = {});
+
+/// The 16 numbers of a Diagnostics as a checkpoint stores them (initial_totals): mass, momentum
+/// (3), angular momentum (3), kinetic, internal, removed count, removed mass, work_dev,
+/// heat_shock, heat_transfer, elastic, dissipated; and back (`v` must hold 16).
+std::vector<double> pack_totals(const Diagnostics& d);
+Diagnostics unpack_totals(const std::vector<double>& v);
 
 /// Give the scene's materials (`mats`, from build_setup) the checkpoint's particle ranges and
 /// state arrays. Throws InputError naming `path` if names, order or state fields differ.

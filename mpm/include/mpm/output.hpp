@@ -23,6 +23,13 @@ void add_particle_datasets(common::ParticleSnapshot& s, const ParticleSet& ps);
 /// Snapshot of the given state: core datasets, `stress` (N x 6 Voigt, Pa),
 /// `internal_energy` (J/kg) and every style state field flagged for output (for particles of
 /// materials without that field the field's initial value is written).
+/// The outflow file's content (Solver::outflow_snapshot) from an outflow record: the removed
+/// particles' core arrays at removal, their removal times and output state fields; positions
+/// moved ballistically to `time`. The MPI build passes the record gathered from its ranks.
+common::ParticleSnapshot make_outflow_snapshot(const ParticleSet& out, const std::vector<double>& removal_time,
+                                               const std::vector<common::Field>& fields, const common::GridInfo& grid,
+                                               double time, std::int64_t step);
+
 common::ParticleSnapshot make_snapshot(const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
                                        const common::GridInfo& grid, double time, std::int64_t step);
 

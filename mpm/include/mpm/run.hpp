@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "common/provenance.hpp"
 #include "common/schema.hpp"
@@ -25,6 +26,10 @@ struct RunSummary {
   std::string series_path;
   int signal = 0;  ///< SIGTERM/SIGINT that stopped the run after a checkpoint (exit 128 + signal), or 0
 };
+
+/// Scene keys a restart may change (they do not alter the computed states): the run identity
+/// recorded in checkpoints leaves them out (also used by the MPI driver, mpi/run_mpi.hpp).
+const std::vector<std::string>& restart_free_keys();
 
 /// Run the scene, or continue the checkpoint `restart` (mpm/checkpoint.hpp; InputError if it is
 /// another run's). Throws common::InputError (bad scene), common::IoError (outputs) or

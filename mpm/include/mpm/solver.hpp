@@ -187,7 +187,8 @@ class Solver {
   /// `materials[m]` holds the particles [begin, end) with ParticleSet::material == m; the state
   /// arrays are allocated here. Throws common::InputError on inconsistent input.
   /// `sub`: hold only a box of `grid` (domain decomposition; then a process may have no
-  /// particles, drives and outflow_remove are refused with common::InputError).
+  /// particles, drives are refused with common::InputError; with outflow_remove each process
+  /// removes its own particles and may be left with none).
   Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
          std::vector<MaterialSlot> materials, Subdomain sub = {});
 

@@ -25,13 +25,7 @@ int cell_of(const common::GridInfo& g, int a, double x) {
 
 DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
     : comm_(comm), opt_(opt), grid_(setup.grid) {
-  if (!setup.drives.empty())
-    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
-  slabs_.axis = 0;
-  for (int d = 1; d < 3; ++d)
-    if (grid_.shape[d] > grid_.shape[slabs_.axis]) slabs_.axis = d;
-  slabs_.halo = 2;
-  slabs_.min_width = std::max({2 * slabs_.halo, 2 * setup.solver.ghost_layers + 1 - slabs_.halo, 1});
+  init_slabs(setup);
   const ParticleSet& ps = setup.particles;
   std::vector<long long> count(grid_.shape[slabs_.axis], 0);
   for (std::size_t p = 0; p < ps.size(); ++p) ++count[cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])];
@@ -42,11 +36,27 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
   ParticleSet mine;
   std::vector<MaterialSlot> mats;
   select_particles(ps, setup.materials, keep, mine, mats);
+  build_solver(setup, std::move(mine), std::move(mats));
+}
+
+void DomainSolver::init_slabs(const Setup& setup) {
+  if (!setup.drives.empty())
+    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
+  slabs_.axis = 0;
+  for (int d = 1; d < 3; ++d)
+    if (grid_.shape[d] > grid_.shape[slabs_.axis]) slabs_.axis = d;
+  slabs_.halo = 2;
+  slabs_.min_width = std::max({2 * slabs_.halo, 2 * setup.solver.ghost_layers + 1 - slabs_.halo, 1});
+}
+
+void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats) {
   halo_ = std::make_unique<HaloExchange>(comm_, slabs_, grid_);
   Subdomain box = slabs_.box(comm_.rank, grid_);
   box.exchange = halo_.get();
   solver_ = std::make_unique<Solver>(setup.solver, grid_, std::move(mine), std::move(mats), box);
 }
+
+int DomainSolver::cell(double x) const { return cell_of(grid_, slabs_.axis, x); }
 
 void DomainSolver::migrate() {
   const Solver& s = *solver_;
@@ -63,7 +73,10 @@ void DomainSolver::migrate() {
     for (int d = 0; d < 3; ++d) {
       const double x = ps.x[3 * p + d];
       const AxisWeights w = axis_weights(s.config().shape, x, grid_.origin[d], grid_.cell_size[d], ps.half_width[3 * p + d]);
-      if (!std::isfinite(x) || w.first < 0 || w.first + npa > grid_.shape[d]) ok = false;
+      if (!std::isfinite(x)) ok = false;
+      // outside the grid: a failure, or with outflow removal the owner of its (clamped) cell
+      // removes it in the step (outflow.cpp)
+      if ((w.first < 0 || w.first + npa > grid_.shape[d]) && !s.config().outflow_remove) ok = false;
     }
     if (!ok) {
       bad = std::min(bad, p);
@@ -134,6 +147,15 @@ void DomainSolver::rebalance() {
 
 void DomainSolver::step(double dt) {
   const std::int64_t k = solver_->step_count();
+  if (solver_->config().outflow_remove) {  // a rank may have removed all its particles, not all ranks
+    long long n = static_cast<long long>(solver_->particles().size());
+    comm_.sum(&n, 1);
+    if (n == 0) {
+      std::ostringstream os;
+      os << "all particles left the grid by t = " << solver_->time() << " s, step " << k;
+      throw SolverFailure(os.str(), true);
+    }
+  }
   if (opt_.rebalance_every > 0 && k > 0 && k % opt_.rebalance_every == 0 && imbalance() > opt_.imbalance_threshold)
     rebalance();
   else
@@ -169,20 +191,24 @@ Diagnostics DomainSolver::diagnostics() {
   return t;
 }
 
-void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>& out_mats) {
+void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>& out_mats, Layout* layout) {
   const ParticleSet& ps = solver_->particles();
   const std::vector<MaterialSlot>& mats = solver_->materials();
   std::vector<char> buf;
   for (std::size_t p = 0; p < ps.size(); ++p) pack_particle(ps, mats, p, buf);
   const double before = comm_.bytes_sent;
-  const std::vector<std::vector<char>> all = comm_.gather(buf, root);
+  const std::vector<std::vector<char>> all = comm_.gather_per_rank(buf, root);
   stats_.migrate_bytes += comm_.bytes_sent - before;
   out = ParticleSet{};
   out_mats.clear();
   if (comm_.rank != root) return;
   Arrivals in;
   const bool with_q = solver_->config().artificial_viscosity;
-  for (const auto& b : all) unpack_particles(b, mats, with_q, in);
+  std::vector<std::size_t> first(all.size() + 1, 0);  // arrivals [first[r], first[r+1]) came from rank r
+  for (std::size_t r = 0; r < all.size(); ++r) {
+    unpack_particles(all[r], mats, with_q, in);
+    first[r + 1] = in.ps.size();
+  }
   // sort the arrivals of each material by id: a file independent of the rank count
   for (std::vector<std::size_t>& idx : in.index) {
     std::vector<std::size_t> order(idx.size());
@@ -200,6 +226,16 @@ void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>&
     idx.swap(sorted);
   }
   merge_particles(ps, mats, std::vector<char>(ps.size(), 0), in, out, out_mats);
+  if (!layout) return;
+  layout->cut = slabs_.cut;
+  layout->rank.clear();
+  layout->index.clear();
+  for (const std::vector<std::size_t>& idx : in.index)  // merge order: material by material
+    for (const std::size_t k : idx) {
+      const std::size_t r = static_cast<std::size_t>(std::upper_bound(first.begin(), first.end(), k) - first.begin()) - 1;
+      layout->rank.push_back(static_cast<std::int32_t>(r));
+      layout->index.push_back(k - first[r]);
+    }
 }
 
 }  // namespace mpmfrag::mpi

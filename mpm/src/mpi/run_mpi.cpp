@@ -1,6 +1,7 @@
 /// @file run_mpi.cpp
 /// mpm-frag time loop on MPI ranks (run_mpi.hpp; no physics here): dt = the global stable step
-/// cut at snapshot times, DomainSolver steps, series rows and snapshots from rank 0.
+/// cut at snapshot times, DomainSolver steps, series rows and snapshots from rank 0, checkpoints
+/// (periodic, at the end, on SIGTERM/SIGINT) and --restart (checkpoint_mpi.hpp).
 #include "mpm/mpi/run_mpi.hpp"
 
 #include <omp.h>
@@ -10,10 +11,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
+#include "common/run_identity.hpp"
 #include "common/status.hpp"
+#include "common/stop_signal.hpp"
 #include "mpm/memory_bounds.hpp"
+#include "mpm/mpi/checkpoint_mpi.hpp"
 #include "mpm/mpi/domain.hpp"
 #include "mpm/output.hpp"
 #include "mpm/scene_setup.hpp"
@@ -25,21 +30,45 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   if (rank != 0) spdlog::set_level(spdlog::level::warn);
-  if (!restart.empty())
-    throw common::InputError("--restart is not available on more than one MPI rank yet (restart on one rank)");
   check_memory(scene);
-  const Setup st = build_setup(scene);
+  Setup st = build_setup(scene);
   const RunConfig& rc = st.run;
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
-  if (scene.integer("output.checkpoint_every") > 0 || scene.real("output.checkpoint_wall") > 0)
-    spdlog::warn("checkpoints are not written on more than one MPI rank yet (output.checkpoint_* ignored)");
+  // identity of this run, recorded in its checkpoints (the serial driver's: any rank count)
+  const common::RunIdentity ident = common::run_identity(scene, restart_free_keys(), {});
   if (rank == 0) log_bodies(st.bodies);
-  DomainSolver dom(MPI_COMM_WORLD, st);
+  std::unique_ptr<DomainSolver> domp;
+  Comm comm(MPI_COMM_WORLD);
+  DriverState drv;
+  if (!restart.empty()) {
+    RestartData rd = read_checkpoint_mpi(comm, restart, ident);
+    if (rank == 0) {
+      apply_materials(rd.ck, st.materials, restart);
+      st.particles = std::move(rd.ck.particles);
+    } else {
+      st.particles = ParticleSet{};
+    }
+    domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, rd.layout);
+    resume(*domp, rd);
+    drv = std::move(rd.ck.driver);
+    if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
+    spdlog::info("restarted from {} ({} ranks) at step {} (t = {:.6g} s)", restart,
+                 rd.layout.cut.empty() ? std::string("one rank") : std::to_string(rd.layout.cut.size() - 1),
+                 domp->step_count(), domp->time());
+  } else {
+    domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st);
+  }
+  DomainSolver& dom = *domp;
+  long long ntot = static_cast<long long>(dom.local().particles().size());
+  comm.sum(&ntot, 1);
   const Slabs& sl = dom.slabs();
   std::string cuts;
-  for (const int c : sl.cut) cuts += (cuts.empty() ? "" : " ") + std::to_string(c);
+  for (const int c : sl.cut) {
+    if (!cuts.empty()) cuts += ' ';
+    cuts += std::to_string(c);
+  }
   spdlog::info("mpm-frag (MPI): {} particles on {} ranks x {} threads, grid {}x{}x{} nodes cut along axis {} into slabs at planes {}",
-               st.particles.size(), size, omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
+               ntot, size, omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
                "xyz"[sl.axis], cuts);
   if (rank == 0) std::filesystem::create_directories(rc.out_dir);
   auto snap_path = [&](std::int64_t step) {
@@ -47,8 +76,9 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     std::snprintf(buf, sizeof buf, "_%06lld.h5", static_cast<long long>(step));
     return (std::filesystem::path(rc.out_dir) / (rc.prefix + buf)).string();
   };
+  const std::string ckpt_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_checkpoint.h5")).string();
   RunSummary sum;
-  sum.particles = st.particles.size();
+  sum.particles = static_cast<std::size_t>(ntot);
   auto write_snap = [&]() {
     ParticleSet ps;
     std::vector<MaterialSlot> mats;
@@ -59,50 +89,109 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     common::write_particle_snapshot(path, snap, prov);
     sum.last_snapshot = path;
   };
+  // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record gathered
+  // to rank 0, in <prefix>_outflow.h5 next to each snapshot (as on one rank).
+  std::size_t reported_out = 0;
+  auto write_outflow = [&]() {
+    if (!st.solver.outflow_remove) return;
+    const OutflowRecord out = dom.gather_outflow(0);
+    if (rank != 0 || out.ps.size() == 0) return;
+    const std::string path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_outflow.h5")).string();
+    common::write_particle_snapshot(path, make_outflow_snapshot(out.ps, out.time, out.fields, st.grid, dom.time(), dom.step_count()), prov);
+    if (out.ps.size() != reported_out)
+      spdlog::info("outflow: {} particles ({:.4g} kg) have left the grid by t = {:.6g} s -> {}", out.ps.size(),
+                   out.totals.mass, dom.time(), path);
+    reported_out = out.ps.size();
+  };
   const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
   std::unique_ptr<SeriesWriter> series;
-  if (rank == 0) series = std::make_unique<SeriesWriter>(series_path, std::vector<std::size_t>{});
+  if (rank == 0)
+    series = std::make_unique<SeriesWriter>(series_path, std::vector<std::size_t>{},
+                                            restart.empty() ? std::nullopt : std::optional<std::string>(std::move(drv.series)));
+  drv.series.clear();
+  auto checkpoint = [&]() {
+    if (series) drv.series = series->text();
+    write_checkpoint_mpi(dom, ckpt_path, drv, prov, ident.text());
+    drv.series.clear();
+    spdlog::info("checkpoint at step {} -> {}", dom.step_count(), ckpt_path);
+  };
   const auto t0 = std::chrono::steady_clock::now();
-  dom.initialize();
-  sum.initial = dom.diagnostics();
-  if (series) series->write(0, 0.0, 0.0, sum.initial, {});
-  write_snap();
-  double next_snap = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
-  sum.first_dt = dom.stable_dt();
-  sum.min_dt = 1e300;
+  auto wall = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  if (restart.empty()) {
+    dom.initialize();
+    drv.initial = dom.diagnostics();
+    if (series) series->write(0, 0.0, 0.0, drv.initial, {});
+    write_snap();
+    drv.next_snapshot = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
+    drv.first_dt = dom.stable_dt();
+    drv.min_dt = 1e300;
+  }
+  sum.initial = drv.initial;
+  sum.first_dt = drv.first_dt;
+  const std::int64_t ckpt_every = scene.integer("output.checkpoint_every");
+  const double ckpt_wall = scene.real("output.checkpoint_wall");
+  double last_ckpt_wall = 0;
+  const common::StopSignals stop;  // SIGTERM/SIGINT: checkpoint after the step, exit 128 + signal
   double dt = 0;
   try {
     while (dom.time() < rc.t_end * (1 - 1e-12)) {
       if (rc.max_steps > 0 && dom.step_count() >= rc.max_steps) break;
       dt = dom.stable_dt();
-      const double target = std::min(next_snap, rc.t_end);
+      const double target = std::min(drv.next_snapshot, rc.t_end);
       if (dom.time() + dt > target) dt = target - dom.time();
       if (!(dt > 0)) dt = dom.stable_dt();
       dom.step(dt);
-      sum.min_dt = std::min(sum.min_dt, dt);
-      sum.max_dt = std::max(sum.max_dt, dt);
-      const bool at_snap = dom.time() >= next_snap * (1 - 1e-12);
+      drv.min_dt = std::min(drv.min_dt, dt);
+      drv.max_dt = std::max(drv.max_dt, dt);
+      const bool at_snap = dom.time() >= drv.next_snapshot * (1 - 1e-12);
       const bool at_end = dom.time() >= rc.t_end * (1 - 1e-12);
       if (dom.step_count() % rc.series_every == 0 || at_end || at_snap) {
         const Diagnostics d = dom.diagnostics();
         if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
       }
       if (at_snap) {
-        if (!at_end) write_snap();
-        next_snap += rc.snapshot_interval;
+        if (!at_end) {  // the final snapshot follows the loop
+          write_snap();
+          write_outflow();
+        }
+        drv.next_snapshot += rc.snapshot_interval;  // also at the end: a continuation to a later end
+      }
+      // a signal or the wall-clock interval may reach the ranks at different steps: act on the
+      // maximum over the ranks (every rank decides the same)
+      double due[2] = {static_cast<double>(stop.pending()), ckpt_wall > 0 && wall() - last_ckpt_wall > ckpt_wall ? 1.0 : 0.0};
+      dom.comm().max(due, 2);
+      if (due[0] > 0) {
+        checkpoint();
+        write_outflow();
+        if (series) series->commit();
+        const int sig = static_cast<int>(due[0]);
+        spdlog::warn("interrupted by signal {} at step {}; continue with --restart {}", sig, dom.step_count(), ckpt_path);
+        sum.signal = sig;
+        sum.steps = dom.step_count();
+        sum.time = dom.time();
+        return sum;
+      }
+      if ((ckpt_every > 0 && dom.step_count() % ckpt_every == 0) || due[1] > 0) {
+        checkpoint();
+        last_ckpt_wall = wall();
       }
     }
   } catch (const SolverFailure& f) {  // thrown on every rank (collective failure flags)
+    write_outflow();
     if (series) series->commit();
     throw common::NumericalError(std::string(f.what()), "");
   }
+  sum.min_dt = drv.min_dt;
+  sum.max_dt = drv.max_dt;
   sum.final = dom.diagnostics();
   write_snap();
+  write_outflow();
+  checkpoint();
   if (series) series->commit();
   sum.series_path = series_path;
   sum.steps = dom.step_count();
   sum.time = dom.time();
-  sum.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sum.wall_s = wall();
   const DomainStats& s = dom.stats();
   double c[4] = {s.halo_bytes, s.migrate_bytes, static_cast<double>(s.migrated), 0.0};
   MPI_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);

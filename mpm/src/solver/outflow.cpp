@@ -25,7 +25,7 @@ void Solver::remove_particles(const std::vector<char>& out) {
   std::size_t n_out = 0;
   for (std::size_t p = 0; p < n; ++p) n_out += out[p] ? 1 : 0;
   if (n_out == 0) return;
-  if (n_out == n) {
+  if (n_out == n && !sub_.exchange) {  // on MPI ranks a rank may empty: DomainSolver checks the total
     std::ostringstream os;
     os << "all " << n << " particles left the grid by t = " << time_ << " s, step " << step_;
     throw SolverFailure(os.str(), true);
@@ -114,18 +114,24 @@ void Solver::remove_particles(const std::vector<char>& out) {
 // except: positions moved ballistically to the current time, `removal_time` first among the
 // state datasets, and the stress described as the stress at removal.
 common::ParticleSnapshot Solver::outflow_snapshot() const {
+  return make_outflow_snapshot(out_, out_time_, out_fields_, grid_, time_, step_);
+}
+
+common::ParticleSnapshot make_outflow_snapshot(const ParticleSet& out, const std::vector<double>& removal_time,
+                                               const std::vector<common::Field>& fields, const common::GridInfo& grid,
+                                               double time, std::int64_t step) {
   common::ParticleSnapshot s;
-  const std::size_t n = out_.size();
-  s.time = time_;
-  s.step = step_;
-  s.grid = grid_;
-  add_particle_datasets(s, out_);
+  const std::size_t n = out.size();
+  s.time = time;
+  s.step = step;
+  s.grid = grid;
+  add_particle_datasets(s, out);
   for (std::size_t p = 0; p < n; ++p)
-    for (int d = 0; d < 3; ++d) s.position[3 * p + d] = out_.x[3 * p + d] + out_.v[3 * p + d] * (time_ - out_time_[p]);
+    for (int d = 0; d < 3; ++d) s.position[3 * p + d] = out.x[3 * p + d] + out.v[3 * p + d] * (time - removal_time[p]);
   for (common::Field& f : s.fields)
     if (f.name == "stress") f.description = "Cauchy stress at removal, Voigt xx,yy,zz,yz,xz,xy";
-  s.fields.insert(s.fields.begin(), common::Field{"removal_time", "s", 1, out_time_, "time at which the particle left the grid"});
-  for (const common::Field& f : out_fields_) s.fields.push_back(f);
+  s.fields.insert(s.fields.begin(), common::Field{"removal_time", "s", 1, removal_time, "time at which the particle left the grid"});
+  for (const common::Field& f : fields) s.fields.push_back(f);
   return s;
 }
 

@@ -30,8 +30,6 @@ Solver::Solver(SolverConfig cfg, common::GridInfo grid, ParticleSet particles,
   const std::size_t n = ps_.size();
   if (n == 0 && !sub.exchange) throw common::InputError("no particles in the scene");
   if (n >= std::numeric_limits<std::uint32_t>::max()) throw common::InputError("too many particles (> 2^32)");
-  if (sub.exchange && cfg_.outflow_remove)
-    throw common::InputError("solver.outflow_remove is not available on more than one MPI rank yet");
   if (cfg_.artificial_viscosity && ps_.q.size() != n) ps_.q.assign(n, 0.0);
   if (!cfg_.artificial_viscosity) ps_.q.clear();
   for (std::size_t m = 0; m < mats_.size(); ++m) {

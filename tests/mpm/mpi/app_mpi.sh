@@ -2,8 +2,9 @@
 # The MPI mpm-frag end to end (label mpi): on NP ranks the snapshots have the layout of a one-rank
 # run (the same groups, datasets and shapes, `h5ls -r`), the series the same header and rows, a
 # second NP-rank run writes bit-identical snapshots (h5diff, provenance excluded: it holds the
-# command line and directory), and what is not distributed yet is refused with exit 2
-# (--restart, grid.outflow = "remove").
+# command line and directory), --restart of a missing file exits 2, and with outflow removal
+# (tests/common/data/tiny_impact.toml) the outflow file has the layout of one rank's and as many
+# particles.
 # Usage: app_mpi.sh <mpm-frag> <scene> <NP> <mpirun...>
 set -euo pipefail
 exe=$1 scene=$2 np=$3
@@ -33,9 +34,12 @@ echo "$np ranks: $n snapshots with the one-rank layout, bit-identical on a repea
 set +e
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set "output.directory=\"$w/c\"" --restart "$w/one/nothing.h5" >/dev/null 2>&1
 rc=$?
-"${run[@]}" -np "$np" "$exe" "${common[@]}" --set "output.directory=\"$w/d\"" --set 'grid.outflow="remove"' >/dev/null 2>&1
-rc2=$?
 set -e
-[ "$rc" -eq 2 ] || fail "--restart on $np ranks: exit $rc, expected 2"
-[ "$rc2" -eq 2 ] || fail "grid.outflow = remove on $np ranks: exit $rc2, expected 2"
-echo "--restart and outflow removal on $np ranks refused (exit 2)"
+[ "$rc" -eq 2 ] || fail "--restart of a missing file on $np ranks: exit $rc, expected 2"
+echo "--restart of a missing file on $np ranks refused (exit 2)"
+tiny="$(dirname "$0")/../../common/data/tiny_impact.toml"
+"${run[@]}" -np 1 "$exe" --scene "$tiny" --quiet --set "output.directory=\"$w/o1\""
+"${run[@]}" -np "$np" "$exe" --scene "$tiny" --quiet --set "output.directory=\"$w/on\""
+[ -f "$w/on/ck_outflow.h5" ] || fail "no outflow file on $np ranks"
+cmp <(layout "$w/o1/ck_outflow.h5") <(layout "$w/on/ck_outflow.h5") || fail "outflow file on $np ranks differs in layout or count from one rank"
+echo "outflow removal on $np ranks: $(h5ls "$w/on/ck_outflow.h5/particles/id" | sed 's/.*{\([0-9]*\).*/\1/') particles in the outflow file, layout of one rank"

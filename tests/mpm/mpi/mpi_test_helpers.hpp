@@ -1,7 +1,8 @@
 /// @file mpi_test_helpers.hpp
 /// Helpers of the MPI tests of mpm-frag (test_mpm_mpi.cpp): rank queries, stepping a serial or a
 /// distributed run to a time, and the largest per-array difference between two particle sets
-/// matched by particle id (every ParticleSet array and every style state field).
+/// matched by particle id (every ParticleSet array and every style state field), and the
+/// Tonge–Ramesh impact scene shared by test_mpm_mpi.cpp and test_mpm_mpi_restart.cpp.
 #pragma once
 #include <mpi.h>
 
@@ -11,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../test_helpers.hpp"
 #include "mpm/mpi/domain.hpp"
 
 namespace mpmtest {
@@ -74,6 +76,60 @@ inline Diff compare(const ParticleSet& a, const std::vector<MaterialSlot>& ma, c
     }
   }
   return d;
+}
+
+// The two materials of the MPI test scenes: a Tonge–Ramesh rock and an elastic solid.
+inline const std::string kRockAndSoft = R"(
+[[material]]
+name = "rock"
+model = "tonge_ramesh"
+density = 2700.0
+[[material]]
+name = "soft"
+model = "elastic"
+density = 1000.0
+bulk_modulus = 1e8
+shear_modulus = 1e7
+)";
+
+// ------------------------------------------------------------------------------------------
+// A Tonge–Ramesh rock sphere moving at 150 m/s hit by an elastic sphere moving at -300 m/s
+// (tests/common/data/tiny_impact.toml without its outflow body): two materials, the style state,
+// scheme midpoint, artificial viscosity. The rock moves 1.8 cells through the cuts (which sit
+// inside it, the slabs balancing the particle count): hundreds of particles change ranks.
+inline Setup impact_setup() {
+  return mpmtest::setup_from(R"(
+[grid]
+domain_min = [0.0, 0.0, 0.0]
+domain_max = [0.2, 0.1, 0.1]
+cell_size = 0.01
+[solver]
+scheme = "midpoint"
+flip = 0.99
+artificial_viscosity.enabled = true
+[time]
+end = 2e-4
+)" + kRockAndSoft + R"(
+[[body]]
+material = "rock"
+shape = "sphere"
+center = [0.07, 0.05, 0.05]
+radius = 0.03
+velocity = [150.0, 0.0, 0.0]
+[[body]]
+material = "soft"
+shape = "sphere"
+center = [0.13, 0.05, 0.05]
+radius = 0.012
+velocity = [-300.0, 0.0, 0.0]
+)");
+}
+constexpr double kImpactEnd = 1.2e-4;  // the impactor has crossed the cut(s) and hit the rock
+inline mpi::DomainOptions impact_options() {
+  mpi::DomainOptions o;
+  o.rebalance_every = 5;
+  o.imbalance_threshold = 1.02;  // low, so that the run rebalances as the impactor changes ranks
+  return o;
 }
 
 }  // namespace mpmtest

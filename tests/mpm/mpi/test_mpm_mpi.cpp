@@ -227,55 +227,6 @@ TEST(MpmMpi, TillotsonShockMatchesOneRank) {
 
 namespace {
 
-// ------------------------------------------------------------------------------------------
-// A Tonge–Ramesh rock sphere moving at 150 m/s hit by an elastic sphere moving at -300 m/s
-// (tests/common/data/tiny_impact.toml without its outflow body): two materials, the style state,
-// scheme midpoint, artificial viscosity. The rock moves 1.8 cells through the cuts (which sit
-// inside it, the slabs balancing the particle count): hundreds of particles change ranks.
-Setup impact_setup() {
-  return mpmtest::setup_from(R"(
-[grid]
-domain_min = [0.0, 0.0, 0.0]
-domain_max = [0.2, 0.1, 0.1]
-cell_size = 0.01
-[solver]
-scheme = "midpoint"
-flip = 0.99
-artificial_viscosity.enabled = true
-[time]
-end = 2e-4
-[[material]]
-name = "rock"
-model = "tonge_ramesh"
-density = 2700.0
-[[material]]
-name = "soft"
-model = "elastic"
-density = 1000.0
-bulk_modulus = 1e8
-shear_modulus = 1e7
-[[body]]
-material = "rock"
-shape = "sphere"
-center = [0.07, 0.05, 0.05]
-radius = 0.03
-velocity = [150.0, 0.0, 0.0]
-[[body]]
-material = "soft"
-shape = "sphere"
-center = [0.13, 0.05, 0.05]
-radius = 0.012
-velocity = [-300.0, 0.0, 0.0]
-)");
-}
-constexpr double kImpactEnd = 1.2e-4;  // the impactor has crossed the cut(s) and hit the rock
-mpi::DomainOptions impact_options() {
-  mpi::DomainOptions o;
-  o.rebalance_every = 5;
-  o.imbalance_threshold = 1.02;  // low, so that the run rebalances as the impactor changes ranks
-  return o;
-}
-
 struct DomainResult {
   ParticleSet ps;
   std::vector<MaterialSlot> mats;

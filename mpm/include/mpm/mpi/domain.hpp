@@ -25,7 +25,8 @@
 ///      material after the kept particles, in (source rank, sender order): material ranges stay
 ///      contiguous and the order is a function of the state alone (deterministic). A particle
 ///      whose stencil leaves the global grid stops the run on every rank (SolverFailure, state
-///      intact).
+///      intact); with outflow removal (grid.outflow = "remove") it goes to the owner of its clamped
+///      cell, whose Solver removes it in the step and keeps its record (outflow_mpi.cpp).
 ///   2. every `rebalance_every` steps: imbalance I = max_r N_r / mean_r N_r; if I > threshold the
 ///      cuts are recomputed from the global histogram n(c) (an integer allreduce: exact), each
 ///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.).
@@ -49,10 +50,10 @@
 /// momentum to round-off of the force sums (the force on a shared node is the same sum).
 ///
 /// ## Not yet (first step)
-/// Snapshots are gathered to rank 0 and written by the serial writer (one file, serial layout,
-/// particles sorted by id within each material); no collective HDF5, no checkpoints or restart
-/// across rank counts, no velocity-driven bodies, no outflow removal; every rank builds the full
-/// scene and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
+/// Snapshots and checkpoints are gathered to rank 0 and written by the serial writer (one file,
+/// serial layout, particles sorted by id within each material; checkpoint_mpi.hpp: restart on any
+/// rank count); no collective HDF5, no velocity-driven bodies; every rank builds the full scene
+/// and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
 /// would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
@@ -129,12 +130,42 @@ void unpack_particles(const std::vector<char>& buf, const std::vector<MaterialSl
 void merge_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, const std::vector<char>& keep,
                      const Arrivals& in, ParticleSet& out, std::vector<MaterialSlot>& out_mats);
 
+/// Where each particle of a gathered set came from (DomainSolver::gather): its rank and its index
+/// there, with the cuts. A restart on as many ranks rebuilds every rank's particles in the same
+/// order from it (the same sums in the same order: bit-identical continuation).
+struct Layout {
+  std::vector<int> cut;              ///< the slab cuts P_0 .. P_R
+  std::vector<std::int32_t> rank;    ///< per particle of the gathered set: its rank
+  std::vector<std::uint64_t> index;  ///< per particle: its index on that rank
+  std::vector<double> outflow_totals;  ///< per rank: totals of its removed particles (pack_totals)
+};
+
+/// The outflow records of every rank on one (DomainSolver::gather_outflow, outflow_mpi.cpp):
+/// the removed particles sorted by (removal time, id), their removal times and output state
+/// fields (merged by name; `init`: each field's initial value), the totals of the removed
+/// particles (rank partials summed in rank order) and each rank's partial (pack_totals, rank-major).
+struct OutflowRecord {
+  ParticleSet ps;
+  std::vector<double> time;
+  std::vector<common::Field> fields;
+  std::vector<double> init;
+  Diagnostics totals;
+  std::vector<double> rank_totals;
+};
+
 /// One rank's part of a distributed mpm-frag run.
 class DomainSolver {
  public:
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
   /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
+  /// Restart (checkpoint_mpi.cpp): rank 0 holds every particle and the materials' state in
+  /// `setup` (a checkpoint's, in file order), the other ranks' `setup` gives only the materials'
+  /// names, styles and models (its particles are ignored). When `layout` (rank 0) was written on
+  /// as many ranks, every rank gets its particles back in their order and the cuts are the
+  /// layout's; otherwise the cuts balance the particle count and each rank keeps the file order.
+  /// Collective. Follow with local().resume(), not initialize().
+  DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt = {});
   /// Initial stress and wave speeds (collective).
   void initialize() { solver_->initialize(); }
   /// The global stable dt (the same on every rank).
@@ -144,8 +175,10 @@ class DomainSolver {
   /// Global totals, rank partials summed in rank order (collective).
   Diagnostics diagnostics();
   /// All particles on `root` (sorted by id within each material, material ranges contiguous);
-  /// other ranks get empty sets (collective).
-  void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats);
+  /// other ranks get empty sets (collective). `layout` (root): where each came from.
+  void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats, Layout* layout = nullptr);
+  /// Every rank's outflow record on `root` (empty elsewhere; collective).
+  OutflowRecord gather_outflow(int root);
   /// Imbalance max_r N_r / mean_r N_r (collective).
   double imbalance();
   /// Recompute the cuts from the particle histogram and migrate (collective).
@@ -162,6 +195,9 @@ class DomainSolver {
   /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
   void migrate();
   std::vector<long long> histogram() const;
+  void init_slabs(const Setup& setup);
+  void build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats);
+  int cell(double x) const;  ///< cell of coordinate x along the split axis
 
   Comm comm_;
   DomainOptions opt_;

@@ -1,0 +1,139 @@
+/// @file mpi_comm.hpp
+/// Thin helpers over MPI shared by the domain decompositions of ssdem-grav (nbody/src/mpi) and
+/// mpm-frag (mpm/src/mpi); MPI build only (SUITE_MPI=ON, target common_mpi: the serial build
+/// neither sees nor links it). Every exchange moves bytes of trivially copyable records:
+/// alltoallv, gather / allgather, exact reductions (max, integer sum), and put / get of plain
+/// values into byte buffers. The helpers count the bytes this rank sends (communication volume).
+/// Determinism: results are placed by sender rank, in the sender's order, never by arrival order.
+#pragma once
+#include <mpi.h>
+
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <vector>
+
+namespace common::mpi {
+
+/// One communicator with its rank and size, and a running count of the bytes this rank sent.
+struct Comm {
+  MPI_Comm c = MPI_COMM_WORLD;
+  int rank = 0, size = 1;
+  double bytes_sent = 0;  ///< point-to-point and collective payload sent by this rank [B]
+  explicit Comm(MPI_Comm comm = MPI_COMM_WORLD) : c(comm) {
+    MPI_Comm_rank(c, &rank);
+    MPI_Comm_size(c, &size);
+  }
+
+  /// Byte buffers per destination rank -> byte buffers per source rank.
+  std::vector<std::vector<char>> alltoallv(const std::vector<std::vector<char>>& send) {
+    std::vector<int> sc(size), rc(size), sd(size), rd(size);
+    std::size_t tot = 0;
+    for (int r = 0; r < size; ++r) {
+      sc[r] = static_cast<int>(send[r].size());
+      sd[r] = static_cast<int>(tot);
+      tot += send[r].size();
+      if (r != rank) bytes_sent += static_cast<double>(send[r].size());
+    }
+    MPI_Alltoall(sc.data(), 1, MPI_INT, rc.data(), 1, MPI_INT, c);
+    std::vector<char> sb(tot);
+    for (int r = 0; r < size; ++r)
+      if (!send[r].empty()) std::memcpy(sb.data() + sd[r], send[r].data(), send[r].size());
+    std::vector<char> rb(offsets(rc, rd));
+    MPI_Alltoallv(sb.data(), sc.data(), sd.data(), MPI_BYTE, rb.data(), rc.data(), rd.data(), MPI_BYTE, c);
+    return split(rb, rc, rd);
+  }
+
+  /// Every rank's vector, concatenated in rank order, on every rank (root < 0) or on `root`
+  /// (empty elsewhere); `counts`: the elements from each rank.
+  template <class T>
+  std::vector<T> gather(const std::vector<T>& mine, int root = -1, std::vector<int>* counts = nullptr) {
+    static_assert(std::is_trivially_copyable_v<T>);
+    std::vector<int> rc, rd;
+    const std::vector<char> b = gather_bytes(mine.data(), mine.size() * sizeof(T), root, rc, rd);
+    std::vector<T> out(b.size() / sizeof(T));
+    if (!b.empty()) std::memcpy(static_cast<void*>(out.data()), b.data(), b.size());
+    if (counts) {
+      counts->resize(size);
+      for (int r = 0; r < size; ++r) (*counts)[r] = rc[r] / static_cast<int>(sizeof(T));
+    }
+    return out;
+  }
+  /// Each rank's bytes, one buffer per source rank, on `root` (no buffers elsewhere).
+  std::vector<std::vector<char>> gather_per_rank(const std::vector<char>& mine, int root) {
+    std::vector<int> rc, rd;
+    const std::vector<char> b = gather_bytes(mine.data(), mine.size(), root, rc, rd);
+    if (rank != root) return {};
+    return split(b, rc, rd);
+  }
+  /// Every rank's n doubles, concatenated in rank order, on every rank.
+  std::vector<double> allgather(const double* v, int n) {
+    return gather(std::vector<double>(v, v + n));
+  }
+
+  /// Largest value over the ranks (exact: the same bits on every rank).
+  double max(double v) {
+    max(&v, 1);
+    return v;
+  }
+  /// Element-wise maximum over the ranks, in place (exact).
+  void max(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, c); }
+  /// Element-wise integer sum over the ranks, in place (exact).
+  void sum(long long* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_LONG_LONG, MPI_SUM, c); }
+
+ private:
+  /// Displacements rd of the counts rc; returns the total.
+  static std::size_t offsets(const std::vector<int>& rc, std::vector<int>& rd) {
+    std::size_t tot = 0;
+    rd.resize(rc.size());
+    for (std::size_t r = 0; r < rc.size(); ++r) {
+      rd[r] = static_cast<int>(tot);
+      tot += static_cast<std::size_t>(rc[r]);
+    }
+    return tot;
+  }
+  static std::vector<std::vector<char>> split(const std::vector<char>& b, const std::vector<int>& rc,
+                                              const std::vector<int>& rd) {
+    std::vector<std::vector<char>> out(rc.size());
+    for (std::size_t r = 0; r < rc.size(); ++r) out[r].assign(b.begin() + rd[r], b.begin() + rd[r] + rc[r]);
+    return out;
+  }
+  /// Gather nb bytes of every rank on every rank (root < 0) or on `root`; rc, rd: byte counts
+  /// and displacements per source rank (valid where the result is).
+  std::vector<char> gather_bytes(const void* mine, std::size_t bytes, int root, std::vector<int>& rc, std::vector<int>& rd) {
+    const int nb = static_cast<int>(bytes);
+    rc.assign(size, 0);
+    if (root < 0)
+      MPI_Allgather(&nb, 1, MPI_INT, rc.data(), 1, MPI_INT, c);
+    else
+      MPI_Gather(&nb, 1, MPI_INT, rc.data(), 1, MPI_INT, root, c);
+    const std::size_t tot = offsets(rc, rd);
+    std::vector<char> out(root < 0 || root == rank ? tot : 0);
+    if (root < 0) {
+      bytes_sent += static_cast<double>(nb) * (size - 1);
+      MPI_Allgatherv(mine, nb, MPI_BYTE, out.data(), rc.data(), rd.data(), MPI_BYTE, c);
+    } else {
+      if (rank != root) bytes_sent += nb;
+      MPI_Gatherv(mine, nb, MPI_BYTE, out.data(), rc.data(), rd.data(), MPI_BYTE, root, c);
+    }
+    return out;
+  }
+};
+
+/// Append the bytes of a plain value (arithmetic, fixed-size Eigen vector, records without
+/// pointers) to a buffer / read one back.
+template <class T>
+void put(std::vector<char>& b, const T& v) {
+  const std::size_t o = b.size();
+  b.resize(o + sizeof(T));
+  std::memcpy(b.data() + o, &v, sizeof(T));
+}
+template <class T>
+T get(const std::vector<char>& b, std::size_t& off) {
+  T v;
+  std::memcpy(static_cast<void*>(&v), b.data() + off, sizeof(T));
+  off += sizeof(T);
+  return v;
+}
+
+}  // namespace common::mpi

@@ -1,0 +1,55 @@
+/// @file checkpoint_mpi.hpp
+/// mpm-frag checkpoints on MPI ranks (issue 19 item 4; MPI build only): written on N ranks and
+/// read on any M ranks, one rank included (the serial driver reads them unchanged).
+///
+/// Writing (collective): every particle with its material state is gathered to rank 0
+/// (DomainSolver::gather: sorted by id within each material, the layout of the snapshots) and
+/// the serial writer (mpm/checkpoint.hpp) writes the file: the serial layout, plus the group
+///   /mpm_state/mpi   attrs ranks (N), cuts (the N+1 slab cuts, node planes);
+///                    datasets rank (int32) and index (uint64): per particle of the file, the
+///                    rank that held it and its index there; outflow_totals (ranks x 16): each
+///                    rank's totals of the particles it removed at the grid edge (pack_totals)
+/// which only a restart on N ranks uses. The solver's carried state (SolverResume: time, step,
+/// the max signal speed of the next dt, m_min) is the same on every rank (global reductions) and
+/// is taken from rank 0; the outflow records are gathered (DomainSolver::gather_outflow); drive
+/// loads do not exist on several ranks.
+///
+/// Reading (collective): rank 0 reads the file (and checks the run identity); the scalars of
+/// SolverResume and DriverState are broadcast; the particles are distributed by
+/// DomainSolver(comm, setup, layout): on N ranks each rank gets back its particles in their order
+/// and the cuts (bit-identical continuation); on M != N ranks (or from a serial checkpoint) the
+/// cuts balance the particle count and each rank keeps the file order (agreement with the
+/// uninterrupted run to round-off: the nodal sums are added in another order).
+///
+/// Errors on rank 0 (a bad file, another run's checkpoint, a failed write) are broadcast and
+/// thrown on every rank with the same type (exit codes 2 / 4 on every rank).
+#pragma once
+#include <string>
+
+#include "common/provenance.hpp"
+#include "common/run_identity.hpp"
+#include "mpm/checkpoint.hpp"
+#include "mpm/mpi/domain.hpp"
+
+namespace mpmfrag::mpi {
+
+/// Write the checkpoint of `dom`'s state to `path` from rank 0 (`driver.series`: rank 0's).
+void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const DriverState& driver,
+                          const common::Provenance& prov, const std::string& identity);
+
+/// A checkpoint read for a restart on MPI ranks.
+struct RestartData {
+  Checkpoint ck;  ///< rank 0: all of it; other ranks: the scalars of ck.solver and ck.driver
+  Layout layout;  ///< rank 0: the ranks that wrote it (empty for a serial checkpoint)
+};
+
+/// Read `path` on rank 0 and broadcast its scalars; InputError on every rank if it is not a
+/// checkpoint or another run's (identity `ident`).
+RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const common::RunIdentity& ident);
+
+/// Continue `dom` (built from `rd` by DomainSolver(comm, setup, rd.layout)) with the solver's
+/// carried state (collective; instead of initialize()): the outflow record goes to rank 0 and
+/// the removed particles' totals to the ranks that held them (as many ranks) or to rank 0.
+void resume(DomainSolver& dom, RestartData& rd);
+
+}  // namespace mpmfrag::mpi
