@@ -13,6 +13,7 @@
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/simulation.hpp"
+#include "head_on_pair.hpp"
 
 using namespace ssdem;
 
@@ -26,23 +27,10 @@ struct ImpactResult {
 // contact duration (entry/exit times linearly interpolated on the gap).
 ImpactResult head_on(double en, double steps_per_contact, bool damping = true,
                      bool extrapolated = true) {
-  const double s = 0.01, rho = 2500, v = 1.0;
-  const double m = rho * 4.0 / 3.0 * M_PI * s * s * s;
-  ContactParams p;
-  p.parts = damping ? kPartDamping : 0u;
-  p.kn = 1e5;
-  p.en = en;
-  const double tc = p.contact_time(0.5 * m);
-  Spheres sp;
-  sp.push(0, Vec3(-s - 0.2 * s, 0, 0), Vec3(v, 0, 0), Vec3::Zero(), m, s);
-  sp.push(1, Vec3(s + 0.2 * s, 0, 0), Vec3(-v, 0, 0), Vec3::Zero(), m, s);
-  SimConfig c;
-  c.contacts = true;
-  c.contact = p;
-  c.dt = tc / steps_per_contact;
-  c.min_steps_per_contact = 5;
-  c.extrapolated_predictor = extrapolated;
-  Simulation sim(sp, c);
+  const test_scenes::HeadOnPair hp = test_scenes::head_on_pair(en, steps_per_contact, damping, extrapolated);
+  const double s = hp.s, v = hp.v, tc = hp.tc;
+  const SimConfig& c = hp.cfg;
+  Simulation sim(hp.sp, c);
   ImpactResult r;
   double t_in = -1, t_out = -1;
   double gap_prev = (sim.spheres().x[1] - sim.spheres().x[0]).norm() - 2 * s;

@@ -19,6 +19,7 @@
 #include "common/rng.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/simulation.hpp"
+#include "head_on_pair.hpp"
 
 using namespace ssdem;
 
@@ -30,22 +31,10 @@ struct Balance {
 
 // Two equal spheres approaching head-on at 2 v; run until well after separation.
 Balance head_on(double en, double steps_per_contact) {
-  const double s = 0.01, rho = 2500, v = 1.0;
-  const double m = rho * 4.0 / 3.0 * M_PI * s * s * s;
-  ContactParams p;
-  p.parts = kPartDamping;
-  p.kn = 1e5;
-  p.en = en;
-  const double tc = p.contact_time(0.5 * m);
-  Spheres sp;
-  sp.push(0, Vec3(-s - 0.2 * s, 0, 0), Vec3(v, 0, 0), Vec3::Zero(), m, s);
-  sp.push(1, Vec3(s + 0.2 * s, 0, 0), Vec3(-v, 0, 0), Vec3::Zero(), m, s);
-  SimConfig c;
-  c.contacts = true;
-  c.contact = p;
-  c.dt = tc / steps_per_contact;
-  c.min_steps_per_contact = 5;
-  Simulation sim(sp, c);
+  const test_scenes::HeadOnPair hp = test_scenes::head_on_pair(en, steps_per_contact);
+  const double tc = hp.tc;
+  const SimConfig& c = hp.cfg;
+  Simulation sim(hp.sp, c);
   Balance b;
   const Diagnostics d0 = sim.diagnostics();
   b.E0 = d0.accounted();

@@ -21,7 +21,7 @@ for f in "$w"/one/*.h5; do
   n=$((n + 1))
 done
 [ "$n" -ge 3 ] || fail "expected snapshots and a checkpoint, found $n files"
-cmp <(cut -d, -f1-17 "$w/one/series.csv") <(cut -d, -f1-17 "$w/many/series.csv") || fail "series.csv differs on $np ranks"
+cmp <(cut -d, -f1-19 "$w/one/series.csv") <(cut -d, -f1-19 "$w/many/series.csv") || fail "series.csv differs on $np ranks"
 grep -q "MPI ranks: $np" "$w/many/run_info.txt" || fail "run_info.txt lacks the rank count"
 echo "$np ranks: $n HDF5 files and series.csv equal to one rank"
 # checkpoint on NP ranks at t = 50 s, restart on NP2 ranks to 100 s: equal to the one-rank run
