@@ -140,7 +140,13 @@ void Solver::g2p(double dt) {
 #pragma omp parallel
   {
     std::vector<double> Lb(9 * kChunk), wpre(2 * kChunk), ws(kChunk), bs(kChunk), econs(3 * kChunk);
-#pragma omp for schedule(static)
+    // Dynamic: a material update's cost varies by orders of magnitude between particles (the
+    // Tonge-Ramesh sub-steps concentrate in the shocked region), so equal static shares leave
+    // threads idle. Chunks are independent (per-chunk results, reduced in chunk order later), so
+    // the result does not depend on the schedule. Measured on the TR impact (fragment.toml,
+    // 700 m, ppc 2, 191 258 particles, 14 steps, 2 threads, 3 interleaved rounds): 36.5 -> 26.0 s
+    // (medians), final snapshot h5diff-identical.
+#pragma omp for schedule(dynamic, 1)
     for (std::size_t c = 0; c < nch; ++c) {
       const Chunk ch = chunks_[c];
       std::size_t fails = 0;
