@@ -39,7 +39,9 @@ Balance head_on(double en, double steps_per_contact) {
   const Diagnostics d0 = sim.diagnostics();
   b.E0 = d0.accounted();
   EXPECT_EQ(d0.dissipated, 0.0);
-  const int n = static_cast<int>(std::ceil(4.0 * tc / c.dt));  // approach 0.4 tc/... then apart
+  // the gap of 0.4 radius closes at 2 v, then one contact time, then 2 t_c more (well apart)
+  const double t_touch = 0.4 * hp.s / (2.0 * hp.v);
+  const int n = static_cast<int>(std::ceil((t_touch + 3.0 * tc) / c.dt));
   for (int k = 0; k < n; ++k) sim.step();
   const Diagnostics d = sim.diagnostics();
   EXPECT_EQ(d.contacts, 0u);
