@@ -98,8 +98,22 @@ int Simulation::wall_level(std::uint32_t i) const {
   return l;
 }
 
+// l_c of every listed pair, cached per pair (it depends only on the two masses and radii): the
+// level rules below read it for every listed pair at every base step.
+void Simulation::update_pair_levels() {
+  if (!contacts_ || contacts_->list_version() == plev_version_) return;
+  const auto& pi = contacts_->pair_i();
+  const auto& pj = contacts_->pair_j();
+  const std::size_t P = pi.size();
+  plev_.resize(P);
+#pragma omp parallel for schedule(static) if (P >= kOmpMin)
+  for (std::size_t p = 0; p < P; ++p) plev_[p] = static_cast<std::uint8_t>(pair_level(pi[p], pj[p]));
+  plev_version_ = contacts_->list_version();
+}
+
 // New levels of the spheres synchronised now (sync_ = 1): min(L, tz, l_c of near pairs/walls).
 // Per sphere over its own pairs (both CSR directions): parallel, each sphere writes its own level.
+// The distance test runs only for a pair whose l_c would lower the level.
 void Simulation::assign_levels(int tz, int L) {
   const std::size_t n = sp_.size();
   const int top = std::min(tz, L);
@@ -118,9 +132,9 @@ void Simulation::assign_levels(int tz, int L) {
     int c = top;
     if (ct && c > 0) {
       for (std::uint32_t p = ri[i]; p < ri[i + 1] && c > 0; ++p)
-        if (near_pair(i, pj[p])) c = std::min(c, pair_level(i, pj[p]));
+        if (plev_[p] < c && near_pair(i, pj[p])) c = plev_[p];
       for (std::uint32_t q = rj[i]; q < rj[i + 1] && c > 0; ++q)
-        if (near_pair(pi[jp[q]], i)) c = std::min(c, pair_level(pi[jp[q]], i));
+        if (plev_[jp[q]] < c && near_pair(pi[jp[q]], i)) c = plev_[jp[q]];
       if (walls && c > 0) c = std::min(c, wall_level(i));
       if (bonds_ && c > 0) c = bond_cap(i, c);
     }
@@ -159,11 +173,12 @@ void Simulation::equalise_levels(int tz) {
   const auto& jp = contacts_->jpair();
   const bool walls = !contacts_->walls().empty();
   work_.clear();
-  auto enforce = [&](std::uint32_t i, std::uint32_t j) {
+  auto enforce = [&](std::uint32_t p) {
+    const std::uint32_t i = pi[p], j = pj[p];
     const int li = level_[i], lj = level_[j];
-    if (li == 0 && lj == 0) return;
+    const int t = std::min({li, lj, static_cast<int>(plev_[p])});
+    if (t == li && t == lj) return;  // the rule holds for this pair whether or not it is near
     if (!near_pair(i, j)) return;
-    const int t = std::min({li, lj, pair_level(i, j)});
     lower_level(i, t, tz, work_);
     lower_level(j, t, tz, work_);
   };
@@ -174,12 +189,12 @@ void Simulation::equalise_levels(int tz) {
     const auto i = static_cast<std::uint32_t>(k);
     int t = level_[i];
     for (std::uint32_t p = ri[i]; p < ri[i + 1] && t > 0; ++p) {
-      const int m = std::min<int>(level_[pj[p]], pair_level(i, pj[p]));
+      const int m = std::min<int>(level_[pj[p]], plev_[p]);
       if (m < t && near_pair(i, pj[p])) t = m;
     }
     for (std::uint32_t q = rj[i]; q < rj[i + 1] && t > 0; ++q) {
       const std::uint32_t j = pi[jp[q]];
-      const int m = std::min<int>(level_[j], pair_level(j, i));
+      const int m = std::min<int>(level_[j], plev_[jp[q]]);
       if (m < t && near_pair(j, i)) t = m;
     }
     if (walls && t > 0) t = std::min(t, wall_level(i));
@@ -191,8 +206,8 @@ void Simulation::equalise_levels(int tz) {
   while (!work_.empty()) {
     const std::uint32_t k = work_.back();
     work_.pop_back();
-    for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) enforce(k, pj[p]);
-    for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) enforce(pi[jp[q]], k);
+    for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p) enforce(p);
+    for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) enforce(jp[q]);
     if (walls && level_[k] > 0) lower_level(k, wall_level(k), tz, work_);
     if (bonds_) enforce_bonds(k, tz);
   }
@@ -350,6 +365,7 @@ void Simulation::step_multirate() {
     promoted_[i] = 0;
   }
   if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
+  update_pair_levels();
   assign_levels(tz, L);
   equalise_levels(tz);
   active_.clear();

@@ -330,6 +330,7 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   pi_.swap(npi);
   pj_.swap(npj);
   ph_.swap(nh);
+  ++version_;
   pF_.resize(P);
   pTp_.resize(P);
   pTn_.resize(P);

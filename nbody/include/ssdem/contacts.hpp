@@ -110,6 +110,9 @@ class ContactSystem {
   const std::vector<std::uint32_t>& row_i() const { return irow_; }
   const std::vector<std::uint32_t>& row_j() const { return jrow_; }
   const std::vector<std::uint32_t>& jpair() const { return jpair_; }
+  /// Changes whenever the pair list (its pairs or their order) changes: per-pair data cached by a
+  /// caller (Simulation's pair levels) are stale when this differs from the value they were made at.
+  std::uint64_t list_version() const { return version_; }
   /// Elastic energy stored in all current contacts [J] (serial, deterministic).
   double elastic_energy(const Spheres& sp) const;
   /// Active contacts as records keyed by ids (sorted by pair order).
@@ -176,6 +179,7 @@ class ContactSystem {
   std::vector<std::uint8_t> stale_flag_;  // per pair: left listed beyond its reach
   std::size_t stale_ = 0;                 // number of flagged pairs
   bool rebuilt_since_compute_ = false;
+  std::uint64_t version_ = 0;  // list_version()
   std::vector<HistoryRecord> pending_;  // imported history waiting for the first build
   bool import_ = false;
 };

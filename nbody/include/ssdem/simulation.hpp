@@ -198,6 +198,7 @@ class Simulation {
   bool lower_level(std::uint32_t i, int target, int tz, std::vector<std::uint32_t>& work);
   bool near_pair(std::uint32_t i, std::uint32_t j) const;
   int pair_level(std::uint32_t i, std::uint32_t j) const;
+  void update_pair_levels();  ///< plev_ for the current pair list (only when the list changed)
   int wall_level(std::uint32_t i) const;  ///< level of i's nearest-wall constraint (255: none near)
   void multirate_forces();
   // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
@@ -212,6 +213,8 @@ class Simulation {
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
   std::vector<std::uint8_t> level_, sync_, promoted_, lnew_;
+  std::vector<std::uint8_t> plev_;  ///< l_c of each listed pair (masses and radii are constant)
+  std::uint64_t plev_version_ = UINT64_MAX;  ///< ContactSystem::list_version() plev_ was made at
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
   std::vector<std::uint32_t> active_, work_;
