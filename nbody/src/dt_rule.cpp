@@ -48,6 +48,28 @@ double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool wal
   return tau;
 }
 
+double heaviest_contact_time(const ContactParams& p, const Spheres& sp) {
+  double m1 = 0.0, m2 = 0.0;  // two largest masses
+  for (double m : sp.m) {
+    if (m > m1) {
+      m2 = m1;
+      m1 = m;
+    } else if (m > m2) {
+      m2 = m;
+    }
+  }
+  double smax = 0.0;
+  for (double s : sp.s) smax = std::max(smax, s);
+  return m2 > 0.0 ? p.contact_time(m1 * m2 / (m1 + m2), 0.5 * smax) : INFINITY;
+}
+
+int anchored_levels(double tau_ref, double tau_min) {
+  if (!(tau_ref > tau_min) || !std::isfinite(tau_ref)) return -1;
+  int m = 0;
+  while (std::ldexp(tau_min, m) < tau_ref) ++m;  // smallest m with tau_ref / 2^m <= tau_min
+  return m;
+}
+
 void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps) {
   const double tau = shortest_contact_time(p, sp, walls);
   if (!std::isfinite(tau)) return;

@@ -161,9 +161,11 @@ bool Simulation::lower_level(std::uint32_t i, int target, int tz, std::vector<st
 // The rule is monotone (levels only drop; sphere i's bound f_i(min_j min(l_j, l_c(i, j))), with
 // f_i(t) = t if i is synchronised, else min(t, tz)), so every order of applying it that stops at
 // a fixed point stops at the same one: the largest fixed point below the starting levels. First a
-// parallel Jacobi sweep over the spheres (each reads its partners' levels, writes its own bound to
-// lnew_: O(pairs / threads)); then the serial worklist, seeded only with the spheres that dropped
-// (a pair with no dropped member satisfied the rule before the sweep and still does).
+// parallel read-only pass finds the violations: the listed pairs with min(l_i, l_j, l_c) below
+// l_i or l_j that are near (a pair on one level at or below its l_c satisfies the rule whether
+// or not it is near: in a pile at rest nothing else is read), and with walls or bonds the spheres
+// above their wall or bond bound; then the serial worklist, seeded with those (a pair or bond
+// with no lowered member satisfied the rule before and still does).
 void Simulation::equalise_levels(int tz) {
   if (!contacts_) return;
   const auto& pi = contacts_->pair_i();
@@ -173,36 +175,45 @@ void Simulation::equalise_levels(int tz) {
   const auto& jp = contacts_->jpair();
   const bool walls = !contacts_->walls().empty();
   work_.clear();
-  auto enforce = [&](std::uint32_t p) {
+  auto violated = [&](std::uint32_t p) {
     const std::uint32_t i = pi[p], j = pj[p];
     const int li = level_[i], lj = level_[j];
     const int t = std::min({li, lj, static_cast<int>(plev_[p])});
-    if (t == li && t == lj) return;  // the rule holds for this pair whether or not it is near
-    if (!near_pair(i, j)) return;
-    lower_level(i, t, tz, work_);
-    lower_level(j, t, tz, work_);
+    return (t != li || t != lj) && near_pair(i, j);
   };
-  const std::size_t n = sp_.size();
-  lnew_.resize(n);
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t k = 0; k < n; ++k) {
-    const auto i = static_cast<std::uint32_t>(k);
-    int t = level_[i];
-    for (std::uint32_t p = ri[i]; p < ri[i + 1] && t > 0; ++p) {
-      const int m = std::min<int>(level_[pj[p]], plev_[p]);
-      if (m < t && near_pair(i, pj[p])) t = m;
-    }
-    for (std::uint32_t q = rj[i]; q < rj[i + 1] && t > 0; ++q) {
-      const std::uint32_t j = pi[jp[q]];
-      const int m = std::min<int>(level_[j], plev_[jp[q]]);
-      if (m < t && near_pair(j, i)) t = m;
-    }
-    if (walls && t > 0) t = std::min(t, wall_level(i));
-    if (bonds_ && t > 0) t = bond_bound(i, t);
-    lnew_[k] = static_cast<std::uint8_t>(t);
+  auto enforce = [&](std::uint32_t p) {
+    if (!violated(p)) return;
+    const int t = std::min({static_cast<int>(level_[pi[p]]), static_cast<int>(level_[pj[p]]),
+                            static_cast<int>(plev_[p])});
+    lower_level(pi[p], t, tz, work_);
+    lower_level(pj[p], t, tz, work_);
+  };
+  const std::size_t P = pi.size(), n = sp_.size();
+  seeds_.clear();
+#pragma omp parallel if (P >= kOmpMin)
+  {
+    std::vector<std::uint32_t> mine;
+#pragma omp for schedule(static) nowait
+    for (std::size_t p = 0; p < P; ++p)
+      if (violated(static_cast<std::uint32_t>(p))) mine.push_back(static_cast<std::uint32_t>(p));
+#pragma omp critical(ssdem_level_seeds)
+    seeds_.insert(seeds_.end(), mine.begin(), mine.end());
   }
-  for (std::uint32_t i = 0; i < n; ++i)
-    if (lnew_[i] < level_[i]) lower_level(i, lnew_[i], tz, work_);
+  std::sort(seeds_.begin(), seeds_.end());  // (the fixed point is order-free; this fixes the path)
+  for (std::uint32_t p : seeds_) enforce(p);
+  if (walls || bonds_) {
+    lnew_.resize(n);
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto i = static_cast<std::uint32_t>(k);
+      int t = level_[i];
+      if (walls && t > 0) t = std::min(t, wall_level(i));
+      if (bonds_ && t > 0) t = bond_bound(i, t);
+      lnew_[k] = static_cast<std::uint8_t>(t);
+    }
+    for (std::uint32_t i = 0; i < n; ++i)
+      if (lnew_[i] < level_[i]) lower_level(i, lnew_[i], tz, work_);
+  }
   while (!work_.empty()) {
     const std::uint32_t k = work_.back();
     work_.pop_back();

@@ -34,6 +34,10 @@ constexpr std::array kContactPresets{common::Choice{"none", ContactPreset::none}
                                      common::Choice{"gravel", ContactPreset::gravel}};
 
 enum class Predictor { automatic, extrapolated, pkdgrav };
+enum class LevelAnchor { lightest, heaviest };
+constexpr std::array kLevelAnchors{common::Choice{"lightest", LevelAnchor::lightest},
+                                   common::Choice{"heaviest", LevelAnchor::heaviest}};
+
 constexpr std::array kPredictors{common::Choice{"auto", Predictor::automatic},
                                  common::Choice{"extrapolated", Predictor::extrapolated},
                                  common::Choice{"pkdgrav", Predictor::pkdgrav}};
@@ -63,6 +67,9 @@ common::Schema ssdem_schema() {
   s.add_bool("time.multirate", false,
              "multi-rate block time steps: each contact pair steps at 2^l dt <= its own contact time / "
              "time.steps_per_contact, spheres with no contact in reach once per gravity block (nbody/README.md)");
+  s.add_choice("time.level_anchor", LevelAnchor::lightest, kLevelAnchors,
+               "multi-rate base step when time.dt = 0: lightest = tau_min / N; heaviest = the ladder "
+               "anchored on the two heaviest spheres' pair, which then gets exactly N steps (dt_rule.hpp)");
   s.add_real("time.min_steps_per_contact", 10.0, "1", 1.0, 1e6,
              "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
   // initial condition
@@ -343,10 +350,21 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
     const double tau_b = c.bonds.empty() ? INFINITY : shortest_bond_time(c.bonds, sp);
     const double tau_min = std::min(tau_c, tau_b);
     if (c.dt <= 0.0) {
-      c.dt = tau_min / sc.real("time.steps_per_contact");
-      os << "dt = " << c.dt << " s (tau_min / " << sc.real("time.steps_per_contact") << "; shortest contact "
+      const double N = sc.real("time.steps_per_contact");
+      c.dt = tau_min / N;
+      os << "dt = " << c.dt << " s (tau_min / " << N << "; shortest contact "
          << tau_c << " s" << (c.bonds.empty() ? std::string() : ", shortest bond mode " + std::to_string(tau_b) + " s")
          << ")\n";
+      if (c.multirate && sc.choice("time.level_anchor", kLevelAnchors) == LevelAnchor::heaviest) {
+        const double tau_ref = heaviest_contact_time(p, sp);
+        const int m = anchored_levels(tau_ref, tau_min);
+        if (m >= 0) {
+          // 1e-12 below the exact anchor: rounding in the level rule cannot put the pair a level finer
+          c.dt = tau_ref / (N * std::ldexp(1.0, m)) * (1.0 - 1e-12);
+          os << "dt = " << c.dt << " s (time.level_anchor = heaviest: the heaviest pair's contact " << tau_ref
+             << " s gets " << N << " steps on level " << m << "; the shortest gets " << tau_min / c.dt << ")\n";
+        }
+      }
     }
     const Predictor pred = sc.choice("contact.predictor", kPredictors);
     c.extrapolated_predictor =

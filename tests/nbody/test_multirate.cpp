@@ -15,6 +15,7 @@
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/io.hpp"
+#include "ssdem/scene_setup.hpp"
 #include "ssdem/simulation.hpp"
 
 using namespace ssdem;
@@ -159,6 +160,67 @@ TEST(Multirate, HeavyPairRestitutionAtItsOwnLevel) {
   EXPECT_GT(used, 0.0);
   EXPECT_NEAR(e, e1, 1e-9);
   EXPECT_LT(std::fabs(e - 0.55) / 0.55, 1.5e-2);
+}
+
+TEST(Multirate, HeaviestAnchorGivesTheHeavyPairExactlyNStepsOnItsLevel) {
+  // Debris of equal spheres plus a few light ones (the pipeline's hand-off: tau of the equal pair
+  // 2.93x the lightest pair's). time.level_anchor = heaviest puts the equal pair on level 2 with
+  // N = 20 steps per contact instead of level 1 with 29.3 (lightest): the heavy pair's rebound is
+  // single-rate stepping at its own step tau/20 (to round-off), the lightest pair keeps >= 20
+  // steps, and the same simulated time takes 29.3/20 fewer sphere evaluations.
+  const double s = 0.01, m = 2500 * 4.0 / 3.0 * M_PI * s * s * s, M = 2.93 * 2.93 * m;
+  Spheres sp;
+  sp.push(0, Vec3(-0.1, 0, 0), Vec3::Zero(), Vec3::Zero(), m, s);  // light pair at rest, apart
+  sp.push(1, Vec3(-0.1, 3.0 * s, 0), Vec3::Zero(), Vec3::Zero(), m, s);
+  sp.push(2, Vec3(-1.2 * s, 0.5, 0), Vec3(1, 0, 0), Vec3::Zero(), M, s);
+  sp.push(3, Vec3(1.2 * s, 0.5, 0), Vec3(-1, 0, 0), Vec3::Zero(), M, s);
+  auto config = [&](const char* anchor) {
+    const common::Scene sc = common::Scene::parse(
+        ssdem_schema(),
+        std::string("[time]\nend = 1.0\nmultirate = true\nsteps_per_contact = 20.0\nlevel_anchor = \"") +
+            anchor + "\"\n[gravity]\nself = false\nevery = 64\n[contact]\nparts = \"normal,damping\"\nnormal.kn = 1e5\n"
+            "damping.en = 0.55\n",
+        "anchor");
+    return sim_config(sc, sp);
+  };
+  const SimConfig lo = config("lightest"), hi = config("heaviest");
+  const double tau_min = lo.contact.contact_time(0.5 * m), tau_ref = lo.contact.contact_time(0.5 * M);
+  EXPECT_NEAR(lo.dt * 20.0 / tau_min, 1.0, 1e-14);
+  EXPECT_GE(tau_ref / (4.0 * hi.dt), 20.0);  // the heavy pair: exactly 20 steps on level 2
+  EXPECT_LT(tau_ref / (4.0 * hi.dt), 20.0 * (1.0 + 1e-11));
+  EXPECT_GE(tau_min / hi.dt, 20.0);  // the lightest: >= 20 steps on level 0
+  auto run = [&](const SimConfig& c, double t_end) {
+    Simulation sim(sp, c);
+    while (sim.time() < t_end) sim.step();
+    return std::make_pair((sim.spheres().v[3].x() - sim.spheres().v[2].x()) / 2.0, sim.level_stats());
+  };
+  const double t_end = 0.02 + 3.0 * tau_ref;
+  const auto [e_hi, st_hi] = run(hi, t_end);
+  const auto [e_lo, st_lo] = run(lo, t_end);
+  EXPECT_GT(st_hi.sphere_time[2], 0.0);
+  EXPECT_GT(st_lo.sphere_time[1], 0.0);
+  // the heavy pair alone, single rate at its level's step
+  Spheres two;
+  two.push(2, sp.x[2], sp.v[2], Vec3::Zero(), M, s);
+  two.push(3, sp.x[3], sp.v[3], Vec3::Zero(), M, s);
+  SimConfig c1 = hi;
+  c1.multirate = false;
+  c1.dt = 4.0 * hi.dt;
+  c1.gravity_every = 1;
+  Simulation ref(two, c1);
+  while (ref.time() < t_end) ref.step();
+  const double e1 = (ref.spheres().v[1].x() - ref.spheres().v[0].x()) / 2.0;
+  std::printf("heavy pair: e = %.9f (heaviest anchor), %.9f (lightest), single rate at tau/20: %.9f; "
+              "sphere evaluations %lld vs %lld\n", e_hi, e_lo, e1, static_cast<long long>(st_hi.evaluations),
+              static_cast<long long>(st_lo.evaluations));
+  EXPECT_NEAR(e_hi, e1, 1e-9);
+  EXPECT_LT(std::fabs(e_hi - 0.55) / 0.55, 1.5e-2);
+  // the pair in reach steps at 4 h_hi instead of 2 h_lo: 2 h_hi / h_lo = 2.93 / 2 fewer steps
+  // (sphere-time on the pair's level / its step; the spheres out of reach step once per gravity
+  // block either way)
+  const double steps_lo = st_lo.sphere_time[1] / (2.0 * lo.dt), steps_hi = st_hi.sphere_time[2] / (4.0 * hi.dt);
+  std::printf("steps of the pair in reach: %.1f (lightest) vs %.1f (heaviest)\n", steps_lo, steps_hi);
+  EXPECT_NEAR(steps_lo / steps_hi, 2.93 / 2.0, 0.1);
 }
 
 TEST(Multirate, ContactsCreateNoEnergy) {

@@ -217,7 +217,7 @@ class Simulation {
   std::uint64_t plev_version_ = UINT64_MAX;  ///< ContactSystem::list_version() plev_ was made at
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
-  std::vector<std::uint32_t> active_, work_;
+  std::vector<std::uint32_t> active_, work_, seeds_;
   std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
   ContactSystem::Subset subset_;
   PairClock clock_;
