@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 #include "common/status.hpp"
 
@@ -48,19 +49,14 @@ double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool wal
   return tau;
 }
 
-double heaviest_contact_time(const ContactParams& p, const Spheres& sp) {
-  double m1 = 0.0, m2 = 0.0;  // two largest masses
-  for (double m : sp.m) {
-    if (m > m1) {
-      m2 = m1;
-      m1 = m;
-    } else if (m > m2) {
-      m2 = m;
-    }
-  }
+double median_contact_time(const ContactParams& p, const Spheres& sp) {
+  if (sp.size() < 2) return INFINITY;
+  std::vector<double> m = sp.m;
+  std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());  // upper median
+  const double mm = m[m.size() / 2];
   double smax = 0.0;
   for (double s : sp.s) smax = std::max(smax, s);
-  return m2 > 0.0 ? p.contact_time(m1 * m2 / (m1 + m2), 0.5 * smax) : INFINITY;
+  return p.contact_time(0.5 * mm, 0.5 * smax);
 }
 
 int anchored_levels(double tau_ref, double tau_min) {

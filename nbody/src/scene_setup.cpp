@@ -34,9 +34,9 @@ constexpr std::array kContactPresets{common::Choice{"none", ContactPreset::none}
                                      common::Choice{"gravel", ContactPreset::gravel}};
 
 enum class Predictor { automatic, extrapolated, pkdgrav };
-enum class LevelAnchor { lightest, heaviest };
+enum class LevelAnchor { lightest, median };
 constexpr std::array kLevelAnchors{common::Choice{"lightest", LevelAnchor::lightest},
-                                   common::Choice{"heaviest", LevelAnchor::heaviest}};
+                                   common::Choice{"median", LevelAnchor::median}};
 
 constexpr std::array kPredictors{common::Choice{"auto", Predictor::automatic},
                                  common::Choice{"extrapolated", Predictor::extrapolated},
@@ -68,8 +68,8 @@ common::Schema ssdem_schema() {
              "multi-rate block time steps: each contact pair steps at 2^l dt <= its own contact time / "
              "time.steps_per_contact, spheres with no contact in reach once per gravity block (nbody/README.md)");
   s.add_choice("time.level_anchor", LevelAnchor::lightest, kLevelAnchors,
-               "multi-rate base step when time.dt = 0: lightest = tau_min / N; heaviest = the ladder "
-               "anchored on the two heaviest spheres' pair, which then gets exactly N steps (dt_rule.hpp)");
+               "multi-rate base step when time.dt = 0: lightest = tau_min / N; median = the ladder "
+               "anchored on a pair of median-mass spheres, which then gets exactly N steps (dt_rule.hpp)");
   s.add_real("time.min_steps_per_contact", 10.0, "1", 1.0, 1e6,
              "refuse dt that resolves the shortest contact with fewer steps (exit 2)");
   // initial condition
@@ -355,14 +355,20 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       os << "dt = " << c.dt << " s (tau_min / " << N << "; shortest contact "
          << tau_c << " s" << (c.bonds.empty() ? std::string() : ", shortest bond mode " + std::to_string(tau_b) + " s")
          << ")\n";
-      if (c.multirate && sc.choice("time.level_anchor", kLevelAnchors) == LevelAnchor::heaviest) {
-        const double tau_ref = heaviest_contact_time(p, sp);
+      if (c.multirate && sc.choice("time.level_anchor", kLevelAnchors) == LevelAnchor::median) {
+        const double tau_ref = median_contact_time(p, sp);
         const int m = anchored_levels(tau_ref, tau_min);
-        if (m >= 0) {
+        // with the lightest anchor the reference pair gets N r / 2^floor(log2 r) steps (r = tau_ref
+        // / tau_min); a finer base step is worth it only where that saves >= 10 %
+        const double r = tau_ref / tau_min, save = r / std::exp2(std::floor(std::log2(r)));
+        if (m >= 1 && save >= 1.1) {
           // 1e-12 below the exact anchor: rounding in the level rule cannot put the pair a level finer
           c.dt = tau_ref / (N * std::ldexp(1.0, m)) * (1.0 - 1e-12);
-          os << "dt = " << c.dt << " s (time.level_anchor = heaviest: the heaviest pair's contact " << tau_ref
+          os << "dt = " << c.dt << " s (time.level_anchor = median: the median pair's contact " << tau_ref
              << " s gets " << N << " steps on level " << m << "; the shortest gets " << tau_min / c.dt << ")\n";
+        } else {
+          os << "time.level_anchor = median not applied: the median pair's contact " << tau_ref << " s already gets "
+             << N * save << " steps (< 1.1 N) with the lightest anchor\n";
         }
       }
     }

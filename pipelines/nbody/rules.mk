@@ -188,3 +188,21 @@ nbody-multirate-bench: ## multi-rate: one-pile overhead, 1e4 isolated spheres, 1
 	mkdir -p $(RUNS)/nbody-multirate
 	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/multirate_bench.py $(BUILD) $(RUNS)/nbody-multirate --rounds $(MR_ROUNDS) \
 	  --cases $(MR_CASES) $(if $(MR_OLD),--old $(MR_OLD))
+
+# nbody-late-bench: the reaccumulated remnant, where a paper-method run spends most of its wall
+# time: LATE_TIME simulated seconds from the last N-body snapshot of LATE_RUN (default the demo;
+# `make -C pipelines demo` first), the pipeline's scene, LATE_THREADS threads; with LATE_OLD=<another
+# ssdem-grav> old and new interleaved over LATE_ROUNDS rounds (medians).
+LATE_RUN     ?= $(RUNS)/demo
+LATE_OLD     ?=
+LATE_TIME    ?= 300
+LATE_ROUNDS  ?= 3
+LATE_THREADS ?= 1
+.PHONY: nbody-late-bench
+nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere evaluation, phases (LATE_OLD= to compare)
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
+	test -d $(LATE_RUN)/nbody || { echo "no $(LATE_RUN)/nbody: run make -C pipelines demo first" >&2; exit 2; }
+	mkdir -p $(RUNS)/nbody-late
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/late_pile_bench.py $(or $(LATE_OLD),-) $(BIN_NBODY) \
+	  $$(ls $(LATE_RUN)/nbody/snap_*.h5 | tail -n 1) $(RUNS)/nbody-late --time $(LATE_TIME) \
+	  --rounds $(LATE_ROUNDS) --threads $(LATE_THREADS)
