@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <iterator>
 #include <vector>
 
 #include "ssdem/multirate.hpp"
@@ -157,17 +158,17 @@ void Simulation::equalise_levels(int tz) {
     std::fill(lflag_.begin(), lflag_.end(), 0);
     unsettled_valid_ = true;
     unsettled_version_ = contacts_->list_version();
-  } else {
-    cand_.assign(unsettled_.begin(), unsettled_.end());
-    const auto mid = static_cast<std::ptrdiff_t>(cand_.size());
+  } else if (nflag > 0) {  // (no level changed: the unsettled set is the same)
+    fresh_.clear();
     for (std::uint32_t i = 0; i < n; ++i) {
       if (!lflag_[i]) continue;
       lflag_[i] = 0;
-      for (std::uint32_t p = ri[i]; p < ri[i + 1]; ++p) cand_.push_back(p);
-      for (std::uint32_t q = rj[i]; q < rj[i + 1]; ++q) cand_.push_back(jp[q]);
+      for (std::uint32_t p = ri[i]; p < ri[i + 1]; ++p) fresh_.push_back(p);
+      for (std::uint32_t q = rj[i]; q < rj[i + 1]; ++q) fresh_.push_back(jp[q]);
     }
-    std::sort(cand_.begin() + mid, cand_.end());
-    std::inplace_merge(cand_.begin(), cand_.begin() + mid, cand_.end());
+    std::sort(fresh_.begin(), fresh_.end());
+    cand_.clear();
+    std::merge(unsettled_.begin(), unsettled_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(cand_));
     cand_.erase(std::unique(cand_.begin(), cand_.end()), cand_.end());
     unsettled_.clear();
     for (std::uint32_t p : cand_)

@@ -15,9 +15,10 @@ import os
 import shutil
 import subprocess
 import sys
-import time
 
 import h5py
+
+from bench_run import timed_run
 
 ROOT = os.environ.get("ROOT", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
@@ -35,14 +36,9 @@ def perturbed_copy(src, dst, rel=1e-12):
 
 def reaccumulate(exe, spheres, outdir, end, threads, extra):
     scene = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
-    args = [exe, "--scene", scene, "--set", f'initial.file="{spheres}"', "--set", f"time.end={end}",
-            "--set", f"output.times=[3600.0, {end}]", "--set", f'output.directory="{outdir}"',
-            "--set", "output.snapshot_interval=0", "--set", "output.checkpoint_wall=0", "-q"] + extra
-    t0 = time.perf_counter()
-    p = subprocess.run(args, capture_output=True, text=True, env=dict(os.environ, OMP_NUM_THREADS=str(threads)))
-    if p.returncode != 0:
-        sys.exit(f"{exe} failed ({p.returncode}):\n{(p.stdout + p.stderr)[-3000:]}")
-    return time.perf_counter() - t0
+    sets = [f'initial.file="{spheres}"', f"time.end={end}", f"output.times=[3600.0, {end}]",
+            f'output.directory="{outdir}"', "output.snapshot_interval=0", "output.checkpoint_wall=0"] + extra
+    return timed_run(exe, scene, sets, threads, quiet=True)[0]
 
 
 def analyse(exe, run, outdir, target_radius):
@@ -77,10 +73,10 @@ def main():
     os.makedirs(a.outdir, exist_ok=True)
     base = os.path.join(a.run, "spheres.h5")
     pert = perturbed_copy(base, os.path.join(a.outdir, "spheres_perturbed.h5"))
-    single = ["--set", "time.multirate=false"]
+    single = ["time.multirate=false"]
     cases = [("multi-rate", base, []), ("multi-rate, perturbed", pert, []),
              ("single rate", base, single), ("single rate, perturbed", pert, single),
-             ("multi-rate, gravity blocks <= 32 dt", base, ["--set", "gravity.max_every=32"])]
+             ("multi-rate, gravity blocks <= 32 dt", base, ["gravity.max_every=32"])]
     res = {}
     for name, sph, extra in cases:
         d = os.path.join(a.outdir, name.replace(", ", "_").replace(" ", "_"))

@@ -12,9 +12,9 @@ import argparse
 import os
 import re
 import statistics
-import subprocess
 import sys
-import time
+
+from bench_run import bench_sets, timed_run
 
 ROOT = os.environ.get("ROOT", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 DONE = re.compile(r"done: (\d+) steps; wall s: gravity ([\d.]+) \((\d+) evals\).*?neighbours ([\d.]+)"
@@ -35,17 +35,7 @@ def old_scene(outdir):
 
 
 def run(exe, scene, snap, t_end, threads, outdir):
-    args = [exe, "--scene", scene, "--set", f'initial.file="{snap}"', "--set", f"time.end={t_end}",
-            "--set", f'output.directory="{outdir}"', "--set", "output.checkpoint_wall=0",
-            "--set", "output.times=[]", "--set", "output.snapshot_interval=0",
-            "--set", "output.series_every=1000"]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    t0 = time.perf_counter()
-    p = subprocess.run(args, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - t0
-    out = p.stdout + p.stderr
-    if p.returncode != 0:
-        sys.exit(f"{exe} failed ({p.returncode}):\n{out[-3000:]}")
+    wall, out = timed_run(exe, scene, bench_sets(snap, t_end, outdir) + ["output.series_every=1000"], threads)
     info = open(os.path.join(outdir, "run_info.txt")).read()
     m, e, err = DONE.search(out), EVALS.search(info), ERR.search(info)
     if not m or not e:

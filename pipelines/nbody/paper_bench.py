@@ -14,12 +14,11 @@ import csv
 import os
 import re
 import statistics
-import subprocess
 import sys
-import time
 
 # reaccumulate.toml is multi-rate with the controlled cadence since the paper's method became the
 # pipeline default; the old binary runs the single-rate setting this bench compares against
+from bench_run import bench_sets, timed_run  # noqa: E402
 from debris_bench import SINGLE_RATE as OLD_SETS  # noqa: E402
 
 ROOT = os.environ.get("ROOT", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
@@ -31,20 +30,9 @@ PAPER_T = 16200.0
 
 def run(exe, spheres, t_end, threads, outdir, extra):
     scene = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
-    args = [exe, "--scene", scene, "--set", f'initial.file="{spheres}"', "--set", f"time.end={t_end}",
-            "--set", f'output.directory="{outdir}"', "--set", "output.checkpoint_wall=0",
-            "--set", "output.times=[]", "--set", "output.snapshot_interval=0",
-            "--set", "time.steps_per_contact=20", "--set", "time.min_steps_per_contact=20",
-            "--set", "output.series_every=1000"]
-    for s in extra:
-        args += ["--set", s]
-    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
-    t0 = time.perf_counter()
-    p = subprocess.run(args, capture_output=True, text=True, env=env)
-    wall = time.perf_counter() - t0
-    out = p.stdout + p.stderr
-    if p.returncode != 0:
-        sys.exit(f"{exe} failed ({p.returncode}):\n{out[-3000:]}")
+    sets = bench_sets(spheres, t_end, outdir) + ["time.steps_per_contact=20", "time.min_steps_per_contact=20",
+                                                 "output.series_every=1000"] + list(extra)
+    wall, out = timed_run(exe, scene, sets, threads)
     m = DONE.search(out)
     n = SPHERES.search(open(os.path.join(outdir, "run_info.txt")).read())
     if not m or not n:

@@ -13,7 +13,7 @@
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/simulation.hpp"
-#include "head_on_pair.hpp"
+#include "contact_scenes.hpp"
 
 using namespace ssdem;
 
@@ -122,20 +122,10 @@ TEST(ContactTangential, GrossSlidingObliqueImpactMatchesRigidBodyLimit) {
   // Chung & Ooi test 4 style: for tan(theta_i) > (7/2) mu (1+e) the sphere slides throughout:
   // e_t = 1 - mu (1+e) v_n / v_t and R w = (5/2) mu (1+e) v_n. Undamped normal law (e = 1)
   // keeps F_N >= 0 so the impulse argument is exact.
-  ContactParams p;
-  p.parts = kPartTangential;
-  p.kn = 1e9;  // overlap ~0.15 % of R, so the lever arm l_p = R - x is R to that accuracy
-  p.mu_s = 0.092;
-  const double vn = 3.9 * std::cos(60 * M_PI / 180), vt = 3.9 * std::sin(60 * M_PI / 180);
-  const double s = 0.05, rho = 2700, m = rho * 4.0 / 3.0 * M_PI * s * s * s;
-  Spheres sp;
-  sp.push(0, Vec3(0, 0, s * 1.01), Vec3(vt, 0, -vn), Vec3::Zero(), m, s);
-  SimConfig c;
-  c.contacts = true;
-  c.contact = p;
-  c.walls.push_back(Plane{Vec3::Zero(), Vec3::UnitZ()});
-  c.dt = p.contact_time(m) / 200;
-  Simulation sim(sp, c);
+  const test_scenes::GrossSliding g = test_scenes::gross_sliding(200);  // contact_scenes.hpp
+  const double vn = g.vn, vt = g.vt, s = g.s;
+  const ContactParams& p = g.cfg.contact;
+  Simulation sim(g.sp, g.cfg);
   for (int k = 0; k < 2000; ++k) sim.step();
   const auto& S = sim.spheres();
   ASSERT_GT(S.x[0].z(), s);

@@ -19,7 +19,7 @@
 #include "common/rng.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/simulation.hpp"
-#include "head_on_pair.hpp"
+#include "contact_scenes.hpp"
 
 using namespace ssdem;
 
@@ -52,23 +52,12 @@ Balance head_on(double en, double steps_per_contact) {
 }
 
 // One sphere sliding throughout an oblique impact on a wall (undamped normal law, Coulomb
-// friction): Chung & Ooi test 4 geometry as in test_contact.cpp.
+// friction): the Chung & Ooi test 4 scene of test_contact.cpp (contact_scenes.hpp).
 Balance gross_sliding(double steps_per_contact, SlipRule rule) {
-  ContactParams p;
-  p.parts = kPartTangential;
-  p.kn = 1e9;
-  p.mu_s = 0.092;
-  p.slip = rule;
-  const double vn = 3.9 * std::cos(60 * M_PI / 180), vt = 3.9 * std::sin(60 * M_PI / 180);
-  const double s = 0.05, rho = 2700, m = rho * 4.0 / 3.0 * M_PI * s * s * s;
-  Spheres sp;
-  sp.push(0, Vec3(0, 0, s * 1.01), Vec3(vt, 0, -vn), Vec3::Zero(), m, s);
-  SimConfig c;
-  c.contacts = true;
-  c.contact = p;
-  c.walls.push_back(Plane{Vec3::Zero(), Vec3::UnitZ()});
-  c.dt = p.contact_time(m) / steps_per_contact;
-  Simulation sim(sp, c);
+  const test_scenes::GrossSliding g = test_scenes::gross_sliding(steps_per_contact, rule);
+  const double vn = g.vn, vt = g.vt, s = g.s, m = g.m;
+  const ContactParams& p = g.cfg.contact;
+  Simulation sim(g.sp, g.cfg);
   Balance b;
   const Diagnostics d0 = sim.diagnostics();
   b.E0 = d0.accounted();

@@ -219,7 +219,7 @@ class Simulation {
   std::vector<double> hopen_, tau_prev_;
   std::vector<std::uint32_t> active_, work_, seeds_;
   std::vector<std::uint8_t> lflag_;            ///< level changed since the last equalisation
-  std::vector<std::uint32_t> unsettled_, cand_;  ///< pairs not on one level <= their l_c (ascending)
+  std::vector<std::uint32_t> unsettled_, cand_, fresh_;  ///< pairs not on one level <= their l_c (ascending)
   std::uint64_t unsettled_version_ = 0;
   bool unsettled_valid_ = false;
   std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
