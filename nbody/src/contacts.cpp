@@ -10,6 +10,7 @@
 #include <unordered_map>
 
 #include "common/status.hpp"
+#include "pair_batch.hpp"
 
 namespace ssdem {
 namespace {
@@ -47,6 +48,8 @@ ContactSystem::ContactSystem(const ContactParams& p, std::vector<Plane> walls, d
 
 
 
+int ContactSystem::lanes() { return kLanes; }
+
 ContactStats ContactSystem::compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                                     const std::vector<Vec3>& wpred, double h,
                                     std::vector<Vec3>& F, std::vector<Vec3>& T, double* diss) {
@@ -82,31 +85,37 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   T.resize(n);
   std::size_t ncont = 0;
   Worst worst;
+  const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pF_.data(), pTp_.data(), pTn_.data(), pD_.data()};
 #pragma omp parallel if (P >= kOmpMin)
   {
     Worst lw;
     std::size_t lc = 0;
-#pragma omp for schedule(static)
+    auto on_contact = [&](std::uint32_t p, double frac) {  // overlap / smaller radius
+      ++lc;
+      lw.offer(frac, pi_[p], pj_[p], p);
+    };
+    // pairs that overlap or were in contact, kLanes at a time (pair_batch.hpp); a pair whose gap
+    // is open and that was not in contact has nothing to compute (no force, no history change)
+    std::uint32_t rows[kLanes];
+    double hs[kLanes];
+    int nl = 0;
+#pragma omp for schedule(static) nowait
     for (std::size_t q = 0; q < P; ++q) {
-      const std::size_t p = sub ? sub->pairs[q] : q;
-      const double h = sub ? sub->hpair[q] : h0;
-      const std::size_t i = pi_[p], j = pj_[p];
-      bool act = ph_.active[p];
-      PairResult res;
-      const double mu = sp.m[i] * sp.m[j] / (sp.m[i] + sp.m[j]);
-      const bool c = contact_pair<PARTS, false>(coeffs_, sp.x[j] - sp.x[i], sp.s[i], sp.s[j], mu,
-                                                vpred[i], vpred[j], wpred[i], wpred[j], sp.v[i],
-                                                sp.v[j], sp.w[i], sp.w[j], h, act, ph_.row(p), res);
-      ph_.active[p] = act ? 1 : 0;
-      pD_[p] = res.diss;  // 0 without contact; at a release, the energy its history held
-      if (c) {
-        pF_[p] = res.F;
-        pTp_[p] = res.Tp;
-        pTn_[p] = res.Tn;
-        ++lc;
-        lw.offer(res.overlap / std::min(sp.s[i], sp.s[j]), i, j, p);
+      const std::uint32_t p = sub ? sub->pairs[q] : static_cast<std::uint32_t>(q);
+      const std::uint32_t i = pi_[p], j = pj_[p];
+      const double reach = sp.s[i] + sp.s[j];
+      if (!ph_.active[p] && (sp.x[j] - sp.x[i]).squaredNorm() >= reach * reach) {
+        pD_[p] = 0.0;
+        continue;
+      }
+      rows[nl] = p;
+      hs[nl] = sub ? sub->hpair[q] : h0;
+      if (++nl == kLanes) {
+        pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, nl, on_contact);
+        nl = 0;
       }
     }
+    if (nl > 0) pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, nl, on_contact);
 #pragma omp critical(ssdem_contact_stats)
     {
       ncont += lc;

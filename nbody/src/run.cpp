@@ -278,6 +278,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     os << info << "spheres: " << sim->spheres().size() << "\ndt = " << cfg.dt
        << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
        << ", " << cadence_text(cfg) << "\ncontacts: " << (cfg.contacts ? "on" : "off")
+       << " (pair kernel in packs of " << ContactSystem::lanes() << ")"
        << "\nk_n = " << cfg.contact.kn << " N/m, parts mask = " << cfg.contact.parts << "\n"
        << "time stepping: "
        << (cfg.multirate ? "multi-rate (levels of 2^l dt, per-pair steps tau_c / " +

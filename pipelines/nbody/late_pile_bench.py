@@ -6,12 +6,13 @@ interleaved (old, new, old, new, ...), and reports medians of wall time, us per 
 evaluation (wall x threads / force evaluations of spheres), the phase split and the energy error.
 
   late_pile_bench.py OLD NEW SNAPSHOT OUTDIR [--time 300] [--rounds 3] [--threads 1]
-OLD may be "-" (new only). Keys the old binary does not know (time.level_anchor) are removed from
-its copy of the scene. Writes OUTDIR/late_pile_bench.md and prints it. Pure standard library."""
+OLD may be "-" (new only). Keys the old binary does not know (time.level_anchor, if its
+--help-params does not list it) are removed from its copy of the scene. Writes OUTDIR/late_pile_bench.md and prints it. Pure standard library."""
 import argparse
 import os
 import re
 import statistics
+import subprocess
 import sys
 
 from bench_run import bench_sets, timed_run
@@ -24,12 +25,15 @@ ERR = re.compile(r"error \(sum - E0\) \S+ J = (\S+) of \|E0\|")
 NEW_KEYS = ("level_anchor",)
 
 
-def old_scene(outdir):
+def old_scene(old, outdir):
+    """The pipeline's scene without the keys the old binary does not know (--help-params)."""
     src = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
+    known = subprocess.run([old, "--help-params"], capture_output=True, text=True).stdout
+    drop = [k for k in NEW_KEYS if k not in known]
     dst = os.path.join(outdir, "reaccumulate_old.toml")
     with open(src) as f, open(dst, "w") as g:
         for line in f:
-            if not line.split("=")[0].strip() in NEW_KEYS:
+            if not line.split("=")[0].strip() in drop:
                 g.write(line)
     return dst
 
@@ -62,7 +66,7 @@ def main():
     res = {"old": [], "new": []}
     for k in range(a.rounds):
         if a.old != "-":
-            res["old"].append(run(a.old, old_scene(a.outdir), a.snapshot, a.time, a.threads,
+            res["old"].append(run(a.old, old_scene(a.old, a.outdir), a.snapshot, a.time, a.threads,
                                   os.path.join(a.outdir, f"old{k}")))
         res["new"].append(run(a.new, new_scene, a.snapshot, a.time, a.threads, os.path.join(a.outdir, f"new{k}")))
     med = lambda rs, key: statistics.median(r[key] for r in rs)

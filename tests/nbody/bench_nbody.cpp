@@ -3,11 +3,19 @@
 /// contact with 12 neighbours), 5e4 and 2e5 spheres, 1 and 2 threads, gravity every k steps.
 /// Counters: us per particle-step per core (total and split gravity / neighbour search /
 /// contacts / integration), contacts per sphere, bytes per sphere. Use the median of repetitions.
+/// BM_ContactPairs: the pair loop alone on a 10^4-sphere pile (every listed pair in contact, gravel
+/// parts), ns per pair evaluation: ContactSystem::compute (packs of kLanes pairs, gathered and
+/// scattered) against a loop of the one-pair kernel over the same pairs and a history of its own.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
 #include <cmath>
 
+#include <chrono>
+#include <algorithm>
+#include <random>
+
+#include "ssdem/contacts.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/simulation.hpp"
@@ -84,5 +92,66 @@ BENCHMARK(BM_RubblePile)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
     ->Iterations(3);
+
+static void BM_ContactPairs(benchmark::State& state) {
+  const bool packs = state.range(0) != 0;
+  omp_set_num_threads(1);
+  Setup s = make(10000, 1);
+  if (state.range(1) != 0) {  // spheres in random order (a reaccumulated pile, not a lattice)
+    std::vector<std::size_t> perm(s.sp.size());
+    for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = i;
+    std::shuffle(perm.begin(), perm.end(), std::mt19937_64(3));
+    Spheres o;
+    for (std::size_t i : perm) o.push(s.sp.id[i], s.sp.x[i], s.sp.v[i], s.sp.w[i], s.sp.m[i], s.sp.s[i]);
+    s.sp = o;
+  }
+  const ContactParams& cp = s.cfg.contact;
+  ContactSystem cs(cp, {}, 0.1);
+  cs.update_neighbors(s.sp, true);
+  std::mt19937_64 g(7);
+  std::normal_distribution<double> nd(0.0, 1e-3);
+  const std::size_t n = s.sp.size();
+  std::vector<Vec3> vp(n), wp(n), F, T;
+  for (std::size_t i = 0; i < n; ++i) {
+    s.sp.v[i] = Vec3(nd(g), nd(g), nd(g));
+    s.sp.w[i] = Vec3(nd(g), nd(g), nd(g));
+    vp[i] = s.sp.v[i];
+    wp[i] = s.sp.w[i];
+  }
+  const std::size_t P = cs.pair_count();
+  ContactHistory hist(cp.parts);
+  hist.assign(P);
+  const ContactCoeffs coeffs(cp);
+  std::vector<Vec3> pF(P);
+  std::int64_t evals = 0;
+  double secs = 0.0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (packs) {
+      cs.compute(s.sp, vp, wp, s.cfg.dt, F, T);
+    } else {
+      dispatch_parts(cp.parts, [&](auto parts) {
+        constexpr unsigned PARTS = decltype(parts)::value;
+        for (std::size_t p = 0; p < P; ++p) {
+          const std::size_t i = cs.pair_i()[p], j = cs.pair_j()[p];
+          bool act = hist.active[p];
+          PairResult res;
+          const double mu = s.sp.m[i] * s.sp.m[j] / (s.sp.m[i] + s.sp.m[j]);
+          contact_pair<PARTS, false>(coeffs, s.sp.x[j] - s.sp.x[i], s.sp.s[i], s.sp.s[j], mu, vp[i], vp[j], wp[i],
+                                     wp[j], s.sp.v[i], s.sp.v[j], s.sp.w[i], s.sp.w[j], s.cfg.dt, act, hist.row(p), res);
+          hist.active[p] = act;
+          pF[p] = res.F;
+        }
+        return 0;
+      });
+    }
+    secs += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    evals += static_cast<std::int64_t>(P);
+  }
+  state.counters["pairs"] = static_cast<double>(P);
+  state.counters["lanes"] = packs ? ContactSystem::lanes() : 1;
+  state.counters["ns_per_pair"] = secs * 1e9 / static_cast<double>(evals);
+}
+BENCHMARK(BM_ContactPairs)->ArgNames({"packs", "shuffled"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(1.0);
 
 BENCHMARK_MAIN();

@@ -34,8 +34,14 @@
 /// counted, except the energy left in the history springs when a contact ends (lost with the
 /// history): their discretisation error (the first-order onset/release error, the Mindlin
 /// stiffness change) shows in that error rather than being hidden in D.
-/// Per-pair step: h is an argument of the kernel, so a later per-pair rung only has to pass its
-/// own h (and keep its rung in one more history column).
+/// Per-pair step: h is an argument of the kernel (multi-rate: each pair its own level's step).
+/// Lanes. The kernel is written once in lane arithmetic (contact/lanes.hpp): contact_lanes<R>
+/// evaluates one pair (R = double; contact_pair() is its Eigen-facing wrapper, used for walls and
+/// tests) or a pack of kLanes pairs (R = Lanes; ContactSystem's pair loop, pair_batch.hpp), whose
+/// history is gathered from and scattered back to the structure-of-arrays columns. Branches are
+/// masks: a lane not in contact computes and discards, a lane whose contact starts has its
+/// history reset by select. Each lane performs exactly the operations of the one-pair kernel in
+/// the same order, so results do not depend on the lane count (tested bit for bit).
 #pragma once
 #include <Eigen/Geometry>
 #include <cmath>
@@ -52,7 +58,7 @@ struct ContactCoeffs : TableInfo::Coeffs {
   explicit ContactCoeffs(const ContactParams& p) : TableInfo::Coeffs(p), beta(p.beta) {}
 };
 
-/// Result of one pair evaluation.
+/// Result of one pair evaluation (the Eigen-facing wrapper).
 struct PairResult {
   Vec3 F = Vec3::Zero();   ///< force on p (n receives -F)
   Vec3 Tp = Vec3::Zero();  ///< torque on p
@@ -61,35 +67,51 @@ struct PairResult {
   double diss = 0.0;       ///< energy dissipated over the step [J]
 };
 
+/// A pair's (or a pack's) history while the kernel works on it.
+template <class R>
+using HistOf = HistLocal<R, kHistVec, kHistScal>;
+
+/// Inputs of the kernel: rho = x_n - x_p, radii, reduced mass, step; predicted velocities and
+/// spins (t_{n+1}) and the half-step ones (history increments, transport).
+template <class R>
+struct PairIn {
+  V3<R> rho;
+  R sp, sn, mu, h;
+  V3<R> vp, vn, wp, wn, vp_half, vn_half, wp_half, wn_half;
+};
+/// Outputs: force on p, torques, overlap (lanes in contact) and the energy dissipated over the
+/// step (in contact: the parts'; released: the energy its history springs held; else 0).
+template <class R>
+struct PairOut {
+  V3<R> F, Tp, Tn;
+  R overlap, diss;
+};
+
 namespace contact_kernel {
 /// The normal law of a set of parts.
 template <unsigned PARTS>
 using NormalLaw = std::conditional_t<(PARTS & kPartHertz) != 0u, HertzNormal, LinearNormal>;
 
-template <class Part>
-using View = HistView<HistCols, TableInfo::vec_base<Part>(), TableInfo::scal_base<Part>()>;
+template <class Part, class R>
+using View = HistView<HistOf<R>, TableInfo::vec_base<Part>(), TableInfo::scal_base<Part>()>;
 
-template <unsigned PARTS, bool WALL, class N, class... P>
-inline void normal_phase(PartList<P...>, const ContactCoeffs& c, PairCtx& k, const HistRow& r) {
-  ((TableInfo::enabled<P>(PARTS) ? P::template normal_phase<PARTS, WALL, N>(c, k, View<P>{r.c, r.row})
-                                 : void()),
-   ...);
+template <unsigned PARTS, bool WALL, class N, class R, class... P>
+[[gnu::always_inline]] inline void normal_phase(PartList<P...>, const ContactCoeffs& c, PairCtx<R>& k, HistOf<R>& h) {
+  ((TableInfo::enabled<P>(PARTS) ? P::template normal_phase<PARTS, WALL, N>(c, k, View<P, R>{&h}) : void()), ...);
 }
-template <unsigned PARTS, bool WALL, class N, class... P>
-inline void tangent_phase(PartList<P...>, const ContactCoeffs& c, PairCtx& k, const HistRow& r) {
-  ((TableInfo::enabled<P>(PARTS) ? P::template tangent_phase<PARTS, WALL, N>(c, k, View<P>{r.c, r.row})
-                                 : void()),
-   ...);
+template <unsigned PARTS, bool WALL, class N, class R, class... P>
+[[gnu::always_inline]] inline void tangent_phase(PartList<P...>, const ContactCoeffs& c, PairCtx<R>& k, HistOf<R>& h) {
+  ((TableInfo::enabled<P>(PARTS) ? P::template tangent_phase<PARTS, WALL, N>(c, k, View<P, R>{&h}) : void()), ...);
 }
-template <unsigned PARTS, class N, class... P>
-inline double energy(PartList<P...>, const ContactCoeffs& c, const EnergyCtx& e, const HistRow& r) {
-  double s = 0.0;
+template <unsigned PARTS, class N, class R, class... P>
+[[gnu::always_inline]] inline R energy(PartList<P...>, const ContactCoeffs& c, const EnergyCtx<R>& e, HistOf<R>& h) {
+  R s = splat<R>(0.0);
   bool first = true;
-  auto add = [&](double x) {
+  auto add = [&](const R& x) {
     s = first ? x : s + x;
     first = false;
   };
-  ((TableInfo::enabled<P>(PARTS) ? add(P::template energy<N>(c, e, View<P>{r.c, r.row})) : void()), ...);
+  ((TableInfo::enabled<P>(PARTS) ? add(P::template energy<N>(c, e, View<P, R>{&h})) : void()), ...);
   return s;
 }
 /// Transported vector columns of a set of parts.
@@ -110,104 +132,147 @@ constexpr auto transported_columns() {
 }
 }  // namespace contact_kernel
 
-/// Evaluate one contact. `active` is the history flag (true if the pair was in contact at the
-/// previous step); on return it says whether it is in contact now. Returns false when there is
-/// no overlap. For WALL, rho points to the foot of the perpendicular from x_p onto the plane,
-/// s_n = 0, v_n = w_n = 0 and mu = m_p. v/w are the predicted velocities and spins at t_{n+1};
-/// v_half/w_half the half-step ones (history increments, transport). `hist` is the pair's row in
-/// its history container (unused if the parts keep none).
+/// Lane l of a history (enabled columns of PARTS) from / to row `row` of a container.
+template <unsigned PARTS, class R>
+[[gnu::always_inline]] inline void load_hist(const HistCols& cols, std::size_t row, HistOf<R>& h, int l) {
+  for (int i = 0; i < kHistVec; ++i)
+    if (vec_column_enabled(i, PARTS)) h.v[i].set(l, cols.v[i][row]);
+  for (int i = 0; i < kHistScal; ++i)
+    if (scal_column_enabled(i, PARTS)) set_lane(h.q[i], l, cols.q[i][row]);
+}
+template <unsigned PARTS, class R>
+[[gnu::always_inline]] inline void store_hist(const HistCols& cols, std::size_t row, const HistOf<R>& h, int l) {
+  for (int i = 0; i < kHistVec; ++i)
+    if (vec_column_enabled(i, PARTS)) cols.v[i][row] = h.v[i].at(l);
+  for (int i = 0; i < kHistScal; ++i)
+    if (scal_column_enabled(i, PARTS)) cols.q[i][row] = lane(h.q[i], l);
+}
+
+/// Evaluate one contact or a pack (lanes.hpp). `active` is the history flag (in contact at the
+/// previous step); returns whether each lane is in contact now (its new flag). For WALL, rho
+/// points to the foot of the perpendicular from x_p onto the plane, s_n = 0, v_n = w_n = 0 and
+/// mu = m_p. `hist` holds the lanes' history (unused if the parts keep none); lanes not in
+/// contact must not be stored back (their history is left as it was).
+template <unsigned PARTS, bool WALL, class R>
+[[gnu::always_inline]] inline MaskOf<R> contact_lanes(const ContactCoeffs& c, const PairIn<R>& in,
+                                                      const MaskOf<R>& active, HistOf<R>& hist,
+                                                      PairOut<R>& out) {
+  using N = contact_kernel::NormalLaw<PARTS>;
+  constexpr bool HIST = TableInfo::has_history(PARTS);
+  const R d2 = in.rho.squaredNorm();
+  const R reach = in.sp + in.sn;
+  const auto contact = mnot(d2 >= reach * reach);
+  out.F = out.Tp = out.Tn = V3<R>::zero();
+  out.overlap = out.diss = splat<R>(0.0);
+  R Rbar;
+  if constexpr (WALL)
+    Rbar = in.sp;
+  else
+    Rbar = in.sp * in.sn / reach;
+  if constexpr (HIST) {
+    // a contact that ends takes the energy left in its history springs (tangential, rolling,
+    // twisting) with it: counted as dissipated (the springs' energy at x = 0)
+    const auto rel = mand(active, mnot(contact));
+    if (any(rel))
+      out.diss = select(rel, contact_kernel::energy<PARTS, N>(ContactTable{}, c, EnergyCtx<R>{splat<R>(0.0), Rbar, WALL}, hist),
+                        out.diss);
+  }
+  if (none(contact)) return contact;
+  PairCtx<R> k;
+  k.d2 = d2;
+  k.d = lsqrt(d2);
+  k.x = reach - k.d;
+  k.n = in.rho / k.d;
+  k.mu = in.mu;
+  k.h = in.h;
+  k.wp = &in.wp;
+  k.wn = &in.wn;
+  k.wp_half = &in.wp_half;
+  k.wn_half = &in.wn_half;
+  k.Rbar = Rbar;
+  const V3<R>& n = k.n;
+  if constexpr (WALL) {
+    k.lp = k.d;
+    k.ln = splat<R>(0.0);
+    k.u = -in.vp - k.lp * in.wp.cross(n);
+  } else {
+    k.lp = (in.sp * in.sp - in.sn * in.sn + d2) / (2.0 * k.d);
+    k.ln = k.d - k.lp;
+    k.u = in.vn - in.vp - k.ln * in.wn.cross(n) - k.lp * in.wp.cross(n);
+  }
+  k.un_s = k.u.dot(n);
+  if constexpr (HIST) {
+    if constexpr (WALL)
+      k.uh = -in.vp_half - k.lp * in.wp_half.cross(n);
+    else
+      k.uh = in.vn_half - in.vp_half - k.ln * in.wn_half.cross(n) - k.lp * in.wp_half.cross(n);
+  } else {
+    k.uh = V3<R>::zero();
+  }
+  contact_kernel::normal_phase<PARTS, WALL, N>(ContactTable{}, c, k, hist);
+  k.FNmag = lsqrt(k.FN.squaredNorm());
+  k.F = k.FN;
+  k.Tp = k.Tn = V3<R>::zero();
+
+  if constexpr (HIST) {
+    // a contact that starts has its history reset (n_old = n, all fields 0); one that goes on
+    // has its tangent-plane fields transported with the contact frame
+    V3<R>& no = hist.v[0];
+    constexpr auto tcols = contact_kernel::transported_columns<PARTS>();
+    const V3<R> z = V3<R>::zero();
+    if constexpr (tcols.size() > 0) {
+      if (any(active)) {
+        V3<R> wsum;
+        if constexpr (WALL)
+          wsum = in.wp_half;
+        else
+          wsum = in.wp_half + in.wn_half;
+        const FrameTransportT<R> tr(no, n, wsum, in.h);
+        for (int i : tcols) hist.v[i] = select(active, tr(hist.v[i]), z);
+      } else {
+        for (int i : tcols) hist.v[i] = z;
+      }
+      no = n;
+    } else {
+      no = select(active, no, n);
+    }
+    for (int i = 1; i < kHistVec; ++i)
+      if (vec_column_enabled(i, PARTS) && !kHistVecFields[i].transported) hist.v[i] = select(active, hist.v[i], z);
+    for (int i = 0; i < kHistScal; ++i)
+      if (scal_column_enabled(i, PARTS)) hist.q[i] = select(active, hist.q[i], splat<R>(0.0));
+  }
+  contact_kernel::tangent_phase<PARTS, WALL, N>(ContactTable{}, c, k, hist);
+  out.F = k.F;
+  out.Tp = k.Tp;
+  out.Tn = k.Tn;
+  out.overlap = k.x;
+  out.diss = select(contact, k.diss, out.diss);
+  return contact;
+}
+
+/// One contact with Eigen vectors and its row in a history container: contact_lanes<double>.
+/// Returns false when there is no overlap; `active` is updated (see contact_lanes).
 template <unsigned PARTS, bool WALL>
 inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, double sn,
                          double mu, const Vec3& vp, const Vec3& vn, const Vec3& wp,
                          const Vec3& wn, const Vec3& vp_half, const Vec3& vn_half,
                          const Vec3& wp_half, const Vec3& wn_half, double h, bool& active,
                          HistRow hist, PairResult& out) {
-  using N = contact_kernel::NormalLaw<PARTS>;
   constexpr bool HIST = TableInfo::has_history(PARTS);
-  const double d2 = rho.squaredNorm();
-  const double reach = sp + sn;
-  if (d2 >= reach * reach) {
-    // a contact that ends takes the energy left in its history springs (tangential, rolling,
-    // twisting) with it: counted as dissipated (the springs' energy at x = 0)
-    if constexpr (HIST) {
-      if (active)
-        out.diss = contact_kernel::energy<PARTS, N>(ContactTable{}, c, EnergyCtx{0.0, WALL ? sp : sp * sn / reach, WALL},
-                                                    hist);
-    }
-    active = false;
-    return false;
-  }
-  PairCtx k;
-  k.d2 = d2;
-  k.d = std::sqrt(d2);
-  k.x = reach - k.d;
-  k.n = rho / k.d;
-  k.mu = mu;
-  k.h = h;
-  k.wp = &wp;
-  k.wn = &wn;
-  k.wp_half = &wp_half;
-  k.wn_half = &wn_half;
-  const Vec3& n = k.n;
-  if constexpr (WALL) {
-    k.lp = k.d;
-    k.ln = 0.0;
-    k.Rbar = sp;
-  } else {
-    k.lp = (sp * sp - sn * sn + d2) / (2.0 * k.d);
-    k.ln = k.d - k.lp;
-    k.Rbar = sp * sn / reach;
-  }
-  if constexpr (WALL)
-    k.u = -vp - k.lp * wp.cross(n);
-  else
-    k.u = vn - vp - k.ln * wn.cross(n) - k.lp * wp.cross(n);
-  k.un_s = k.u.dot(n);
-  if constexpr (HIST) {
-    if constexpr (WALL)
-      k.uh = -vp_half - k.lp * wp_half.cross(n);
-    else
-      k.uh = vn_half - vp_half - k.ln * wn_half.cross(n) - k.lp * wp_half.cross(n);
-  } else {
-    k.uh.setZero();
-  }
-  contact_kernel::normal_phase<PARTS, WALL, N>(ContactTable{}, c, k, hist);
-  k.FNmag = k.FN.norm();
-  k.F = k.FN;
-  k.Tp.setZero();
-  k.Tn.setZero();
-
-  if constexpr (HIST) {
-    const HistCols& cols = *hist.c;
-    const std::size_t r = hist.row;
-    Vec3& no = cols.v[0][r];
-    constexpr auto tcols = contact_kernel::transported_columns<PARTS>();
-    if (!active) {
-      no = n;
-      for (int i = 1; i < kHistVec; ++i)
-        if (vec_column_enabled(i, PARTS)) cols.v[i][r].setZero();
-      for (int i = 0; i < kHistScal; ++i)
-        if (scal_column_enabled(i, PARTS)) cols.q[i][r] = 0.0;
-    } else if constexpr (tcols.size() > 0) {
-      // Transport the tangent-plane history with the contact frame.
-      Vec3 wsum;
-      if constexpr (WALL)
-        wsum = wp_half;
-      else
-        wsum = wp_half + wn_half;
-      const FrameTransport tr(no, n, wsum, h);
-      for (int i : tcols) cols.v[i][r] = tr(cols.v[i][r]);
-      no = n;
-    }
-  }
-  active = true;
-  contact_kernel::tangent_phase<PARTS, WALL, N>(ContactTable{}, c, k, hist);
-  out.F = k.F;
-  out.Tp = k.Tp;
-  out.Tn = k.Tn;
-  out.overlap = k.x;
-  out.diss = k.diss;
-  return true;
+  const PairIn<double> in{rho, sp, sn, mu, h, vp, vn, wp, wn, vp_half, vn_half, wp_half, wn_half};
+  HistOf<double> hl;
+  if constexpr (HIST) load_hist<PARTS>(*hist.c, hist.row, hl, 0);
+  PairOut<double> o;
+  const bool con = contact_lanes<PARTS, WALL>(c, in, active, hl, o);
+  if constexpr (HIST)
+    if (con) store_hist<PARTS>(*hist.c, hist.row, hl, 0);
+  active = con;
+  out.F = o.F.eigen();
+  out.Tp = o.Tp.eigen();
+  out.Tn = o.Tn.eigen();
+  out.overlap = o.overlap;
+  out.diss = o.diss;
+  return con;
 }
 
 /// Elastic energy stored in one contact of overlap x and reduced radius Rbar: the sum of the
@@ -215,8 +280,10 @@ inline bool contact_pair(const ContactCoeffs& c, const Vec3& rho, double sp, dou
 template <unsigned PARTS>
 inline double contact_elastic_energy(const ContactCoeffs& c, double x, double Rbar, HistRow hist,
                                      bool wall = false) {
+  HistOf<double> hl;
+  if constexpr (TableInfo::has_history(PARTS)) load_hist<PARTS>(*hist.c, hist.row, hl, 0);
   return contact_kernel::energy<PARTS, contact_kernel::NormalLaw<PARTS>>(ContactTable{}, c,
-                                                                         EnergyCtx{x, Rbar, wall}, hist);
+                                                                         EnergyCtx<double>{x, Rbar, wall}, hl);
 }
 /// The same for a run-time set of parts.
 inline double contact_elastic_energy(const ContactCoeffs& c, unsigned parts, double x, double Rbar,

@@ -120,6 +120,8 @@ class ContactSystem {
   /// Load history (e.g. from a checkpoint); rebuilds the pair list immediately.
   void import_history(const Spheres& sp, const std::vector<HistoryRecord>& recs);
 
+  /// Pairs compute() evaluates together (pair_batch.hpp): 4 when built with AVX2, else 2.
+  static int lanes();
   std::size_t pair_count() const { return pi_.size(); }
   /// Pair list (i < j, sorted by (i, j)): the i and j members.
   const std::vector<std::uint32_t>& pair_i() const { return pi_; }

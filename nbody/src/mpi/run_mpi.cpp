@@ -116,7 +116,8 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   std::ostringstream ri;
   ri << info << "spheres: " << sim->global_count() << "\nMPI ranks: " << comm.size << "\ndt = " << cfg.dt
      << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
-     << "\ncontacts: " << (cfg.contacts ? "on" : "off") << "\nk_n = " << cfg.contact.kn
+     << "\ncontacts: " << (cfg.contacts ? "on" : "off") << " (pair kernel in packs of " << ContactSystem::lanes()
+     << ")\nk_n = " << cfg.contact.kn
      << " N/m, parts mask = " << cfg.contact.parts << "\n";
   const std::string run_info = ri.str();
   on_root(comm, [&] { common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info); });

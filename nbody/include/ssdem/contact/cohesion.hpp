@@ -67,16 +67,16 @@ struct Cohesion : PartBase {
     }
   };
   /// Cohesive force of a contact of reduced radius Rbar.
-  template <bool WALL, class C>
-  static double force(const C& c, double Rbar) {
+  template <bool WALL, class C, class R>
+  static R force(const C& c, const R& Rbar) {
     return (WALL ? c.coh_wall_pre : c.coh_pre) * Rbar * Rbar;
   }
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void tangent_phase(const C& c, PairCtx& k, const H&) {
-    k.F += force<WALL>(c, k.Rbar) * k.n;
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void tangent_phase(const C& c, PairCtx<R>& k, const H&) {
+    k.F = k.F + force<WALL>(c, k.Rbar) * k.n;
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H&) {
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H&) {
     return -(e.wall ? c.coh_wall_pre : c.coh_pre) * e.Rbar * e.Rbar * e.x;
   }
 };

@@ -37,10 +37,10 @@ struct Damping : PartBase {
     template <class P>
     explicit Coeffs(const P& p) : cn_pre(p.cn_pre()) {}
   };
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void normal_phase(const C& c, PairCtx& k, const H&) {
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void normal_phase(const C& c, PairCtx<R>& k, const H&) {
     k.cn = N::cn(c, k);
-    k.FN += (k.cn * k.un_s) * k.n;
+    k.FN = k.FN + (k.cn * k.un_s) * k.n;
     k.diss += k.cn * k.un_s * k.un_s * k.h;
   }
 };

@@ -65,7 +65,7 @@ class ContactHistory {
   void assign(std::size_t rows);
   std::size_t size() const { return active.size(); }
   void swap(ContactHistory& o);
-  /// Copy row q of `from` (same configuration) into row `to`, flag included.
+  /// Copy row q of `from` (same configuration) into row `to`, which becomes active.
   void copy_row(std::size_t to, const ContactHistory& from, std::size_t q);
   /// Set row `to` from a record (active); `flip` negates the fields that flip with the pair order.
   void set_from(std::size_t to, const HistoryRecord& r, bool flip);

@@ -74,30 +74,30 @@ struct HertzNormal : PartBase {
     }
   };
   // --- the normal-law interface used by the other parts ---
-  template <class C>
-  static void stiffness(const C& c, double x, double Rbar, double& kn, double& kt) {
-    const double a = std::sqrt(Rbar * x);  // contact radius
+  template <class C, class R>
+  static void stiffness(const C& c, const R& x, const R& Rbar, R& kn, R& kt) {
+    const R a = lsqrt(Rbar * x);  // contact radius
     kn = 2.0 * c.Estar * a;
     kt = 8.0 * c.Gstar * a;
   }
-  template <class C>
-  static double cn(const C& c, const PairCtx& k) {
+  template <class C, class R>
+  static R cn(const C& c, const PairCtx<R>& k) {
     // sqrt(mu K) x^{1/4} = sqrt(mu (4/3) E* sqrt(R* x))
-    return c.alpha_n * std::sqrt(k.mu * (4.0 / 3.0) * c.Estar * std::sqrt(k.Rbar * k.x));
+    return c.alpha_n * lsqrt(k.mu * (4.0 / 3.0) * c.Estar * lsqrt(k.Rbar * k.x));
   }
-  template <class C>
-  static double ct(const C& c, const PairCtx& k) { return c.alpha_t * std::sqrt(k.mu * k.kt); }
+  template <class C, class R>
+  static R ct(const C& c, const PairCtx<R>& k) { return c.alpha_t * lsqrt(k.mu * k.kt); }
   // --- hooks ---
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void normal_phase(const C& c, PairCtx& k, const H&) {
-    const double a = std::sqrt(k.Rbar * k.x);
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void normal_phase(const C& c, PairCtx<R>& k, const H&) {
+    const R a = lsqrt(k.Rbar * k.x);
     k.kn = 2.0 * c.Estar * a;
     k.kt = 8.0 * c.Gstar * a;
     k.FN = (-(4.0 / 3.0) * c.Estar * a * k.x) * k.n;  // (4/3) E* sqrt(R*) x^{3/2}
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H&) {
-    return (8.0 / 15.0) * c.Estar * std::sqrt(e.Rbar * e.x) * e.x * e.x;  // (2/5) K x^{5/2}
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H&) {
+    return (8.0 / 15.0) * c.Estar * lsqrt(e.Rbar * e.x) * e.x * e.x;  // (2/5) K x^{5/2}
   }
 };
 

@@ -37,24 +37,24 @@ struct LinearNormal : PartBase {
     explicit Coeffs(const P& p) : kn(p.kn), kt(p.kt()) {}
   };
   // --- the normal-law interface used by the other parts ---
-  template <class C>
-  static void stiffness(const C& c, double /*x*/, double /*Rbar*/, double& kn, double& kt) {
-    kn = c.kn;
-    kt = c.kt;
+  template <class C, class R>
+  static void stiffness(const C& c, const R& /*x*/, const R& /*Rbar*/, R& kn, R& kt) {
+    kn = splat<R>(c.kn);
+    kt = splat<R>(c.kt);
   }
-  template <class C>
-  static double cn(const C& c, const PairCtx& k) { return c.cn_pre * std::sqrt(k.mu); }
-  template <class C>
-  static double ct(const C& c, const PairCtx& k) { return c.ct_pre * std::sqrt(k.mu); }
+  template <class C, class R>
+  static R cn(const C& c, const PairCtx<R>& k) { return c.cn_pre * lsqrt(k.mu); }
+  template <class C, class R>
+  static R ct(const C& c, const PairCtx<R>& k) { return c.ct_pre * lsqrt(k.mu); }
   // --- hooks ---
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void normal_phase(const C& c, PairCtx& k, const H&) {
-    k.kn = c.kn;
-    k.kt = c.kt;
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void normal_phase(const C& c, PairCtx<R>& k, const H&) {
+    k.kn = splat<R>(c.kn);
+    k.kt = splat<R>(c.kt);
     k.FN = (-c.kn * k.x) * k.n;
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H&) { return 0.5 * c.kn * e.x * e.x; }
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H&) { return 0.5 * c.kn * e.x * e.x; }
 };
 
 }  // namespace ssdem

@@ -45,46 +45,47 @@ struct Rolling : PartBase {
     template <class P>
     explicit Coeffs(const P& p) : mu_r(p.mu_r) {}
   };
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void tangent_phase(const C& c, PairCtx& k, const H& h) {
-    const Vec3& n = k.n;
-    const double a = c.beta * k.Rbar;
-    Vec3 dw, dwh;
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void tangent_phase(const C& c, PairCtx<R>& k, const H& h) {
+    const V3<R>& n = k.n;
+    const R a = c.beta * k.Rbar;
+    V3<R> dw, dwh;
     relative_spins<WALL>(k, dw, dwh);
-    const double dwn = dw.dot(n), dwhn = dwh.dot(n);
-    double corr;
+    const R dwn = dw.dot(n), dwhn = dwh.dot(n);
+    R corr;
     if constexpr (WALL)
       corr = 0.5 / k.lp;
     else
       corr = (k.ln - k.lp) / (2.0 * k.lp * k.ln);
-    const Vec3 vroll = dw - dwn * n + corr * n.cross(k.u);
-    const Vec3 vroll_h = dwh - dwhn * n + corr * n.cross(k.uh);
-    Vec3& th = h.vec(0);
-    th += vroll_h * k.h;
-    const double kr = k.kn * a * a;
-    const Vec3 spring = kr * th;
-    const double crit = c.mu_r * a * k.FNmag;
-    Vec3 M;
-    const double sp2 = spring.squaredNorm();
-    if (sp2 > crit * crit) {
-      M = spring * (crit / std::sqrt(sp2));
-      th -= vroll_h * k.h;
-      k.diss += M.dot(vroll_h) * k.h;  // the spring keeps its energy: all the work is dissipated
-    } else {
-      M = spring;
-      if constexpr ((PARTS & kPartDamping) != 0u) {
-        M += (k.cn * a * a) * vroll;
-        k.diss += k.cn * a * a * vroll.squaredNorm() * k.h;
-      }
+    const V3<R> vroll = dw - dwn * n + corr * n.cross(k.u);
+    const V3<R> vroll_h = dwh - dwhn * n + corr * n.cross(k.uh);
+    V3<R>& th = h.vec(0);
+    th = th + vroll_h * k.h;
+    const R kr = k.kn * a * a;
+    const V3<R> spring = kr * th;
+    const R crit = c.mu_r * a * k.FNmag;
+    const R sp2 = spring.squaredNorm();
+    const auto slip = sp2 > crit * crit;
+    V3<R> M = spring;  // rolling
+    if constexpr ((PARTS & kPartDamping) != 0u) {
+      M = M + (k.cn * a * a) * vroll;
+      k.diss = select(slip, k.diss, k.diss + k.cn * a * a * vroll.squaredNorm() * k.h);
     }
-    k.Tp += M;
-    if constexpr (!WALL) k.Tn -= M;
+    if (any(slip)) {  // slipping: the limit along the spring, this step's increment undone
+      const V3<R> Ms = spring * (crit / lsqrt(sp2));
+      th = select(slip, th - vroll_h * k.h, th);
+      // the spring keeps its energy: all the work is dissipated
+      k.diss = select(slip, k.diss + Ms.dot(vroll_h) * k.h, k.diss);
+      M = select(slip, Ms, M);
+    }
+    k.Tp = k.Tp + M;
+    if constexpr (!WALL) k.Tn = k.Tn - M;
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H& h) {
-    double kn, kt;
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H& h) {
+    R kn, kt;
     N::stiffness(c, e.x, e.Rbar, kn, kt);
-    const double a = c.beta * e.Rbar;
+    const R a = c.beta * e.Rbar;
     return 0.5 * kn * a * a * h.vec(0).squaredNorm();
   }
 };

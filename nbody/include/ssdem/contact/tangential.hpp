@@ -70,41 +70,46 @@ struct Tangential : PartBase {
     template <class P>
     explicit Coeffs(const P& p) : ct_pre(p.ct_pre()), mu_s(p.mu_s), slip(p.slip) {}
   };
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void tangent_phase(const C& c, PairCtx& k, const H& h) {
-    const Vec3& n = k.n;
-    const Vec3 ut = k.u - k.un_s * n;
-    Vec3& S = h.vec(0);
-    const double s_old2 = S.squaredNorm();
-    const Vec3 uth = k.uh - k.uh.dot(n) * n;
-    S += uth * k.h;
-    double ct = 0.0;
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void tangent_phase(const C& c, PairCtx<R>& k, const H& h) {
+    const V3<R>& n = k.n;
+    const V3<R> ut = k.u - k.un_s * n;
+    V3<R>& S = h.vec(0);
+    const R s_old2 = S.squaredNorm();
+    const V3<R> uth = k.uh - k.uh.dot(n) * n;
+    S = S + uth * k.h;
+    R ct = splat<R>(0.0);
     if constexpr ((PARTS & kPartDamping) != 0u) ct = N::ct(c, k);
     k.ct = ct;
-    Vec3 FT = k.kt * S + ct * ut;
-    const double Fmax = c.mu_s * k.FNmag;
-    const double ft2 = FT.squaredNorm();
-    if (ft2 > Fmax * Fmax) {
+    V3<R> FT = k.kt * S + ct * ut;
+    const R Fmax = c.mu_s * k.FNmag;
+    const R ft2 = FT.squaredNorm();
+    const auto slip = ft2 > Fmax * Fmax;
+    R dd = ct * ut.squaredNorm() * k.h;  // sticking: the dashpot
+    if (any(slip)) {
+      V3<R> FTs, Ss;
       if (c.slip == SlipRule::coulomb) {
-        FT *= Fmax / std::sqrt(ft2);
-        S = (FT - ct * ut) / k.kt;
+        FTs = FT * (Fmax / lsqrt(ft2));
+        Ss = (FTs - ct * ut) / k.kt;
       } else {
-        S.setZero();
-        const double utm = ut.norm();
-        FT = utm > 0.0 ? Vec3((std::min(Fmax, ct * utm) / utm) * ut) : Vec3::Zero();
+        Ss = V3<R>::zero();
+        const R utm = lsqrt(ut.squaredNorm());
+        FTs = select(utm > 0.0, (lmin(Fmax, ct * utm) / utm) * ut, V3<R>::zero());
       }
-      k.diss += FT.dot(uth) * k.h - 0.5 * k.kt * (S.squaredNorm() - s_old2);
-    } else {
-      k.diss += ct * ut.squaredNorm() * k.h;
+      const R ds = FTs.dot(uth) * k.h - 0.5 * k.kt * (Ss.squaredNorm() - s_old2);
+      FT = select(slip, FTs, FT);
+      S = select(slip, Ss, S);
+      dd = select(slip, ds, dd);
     }
-    k.F += FT;
-    const Vec3 nxF = n.cross(FT);
+    k.diss += dd;
+    k.F = k.F + FT;
+    const V3<R> nxF = n.cross(FT);
     k.Tp = k.lp * nxF;
     if constexpr (!WALL) k.Tn = k.ln * nxF;
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H& h) {
-    double kn, kt;
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H& h) {
+    R kn, kt;
     N::stiffness(c, e.x, e.Rbar, kn, kt);
     return 0.5 * kt * h.vec(0).squaredNorm();
   }

@@ -42,35 +42,40 @@ struct Twisting : PartBase {
     template <class P>
     explicit Coeffs(const P& p) : mu_t(p.mu_t) {}
   };
-  template <unsigned PARTS, bool WALL, class N, class C, class H>
-  static void tangent_phase(const C& c, PairCtx& k, const H& h) {
-    const Vec3& n = k.n;
-    const double a = c.beta * k.Rbar;
-    Vec3 dw, dwh;
+  template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
+  static void tangent_phase(const C& c, PairCtx<R>& k, const H& h) {
+    const V3<R>& n = k.n;
+    const R a = c.beta * k.Rbar;
+    V3<R> dw, dwh;
     relative_spins<WALL>(k, dw, dwh);
-    const double dwn = dw.dot(n), dwhn = dwh.dot(n);
-    double& q = h.scal(0);
+    const R dwn = dw.dot(n), dwhn = dwh.dot(n);
+    R& q = h.scal(0);
     q += dwhn * k.h;
-    const double kq = 2.0 * k.kt * a * a;
-    const double crit = c.mu_t * c.mu_s * a * k.FNmag;
-    double Mq = kq * q;
-    if (std::fabs(Mq) > crit) {
-      Mq = std::copysign(crit, Mq);
-      q -= dwhn * k.h;
-      k.diss += Mq * dwhn * k.h;  // the spring keeps its energy: all the work is dissipated
-    } else if constexpr ((PARTS & kPartDamping) != 0u) {
-      Mq += 2.0 * k.ct * a * a * dwn;
-      k.diss += 2.0 * k.ct * a * a * dwn * dwn * k.h;
+    const R kq = 2.0 * k.kt * a * a;
+    const R crit = c.mu_t * c.mu_s * a * k.FNmag;
+    R Mq = kq * q;
+    const auto slip = labs(Mq) > crit;
+    if constexpr ((PARTS & kPartDamping) != 0u) {  // sticking: the dashpot
+      const R Md = Mq + 2.0 * k.ct * a * a * dwn;
+      k.diss = select(slip, k.diss, k.diss + 2.0 * k.ct * a * a * dwn * dwn * k.h);
+      Mq = select(slip, Mq, Md);
     }
-    k.Tp += Mq * n;
-    if constexpr (!WALL) k.Tn -= Mq * n;
+    if (any(slip)) {  // slipping: the limit (sign of the spring), this step's increment undone
+      const R Ms = select(Mq < 0.0, -crit, crit);
+      q = select(slip, q - dwhn * k.h, q);
+      // the spring keeps its energy: all the work is dissipated
+      k.diss = select(slip, k.diss + Ms * dwhn * k.h, k.diss);
+      Mq = select(slip, Ms, Mq);
+    }
+    k.Tp = k.Tp + Mq * n;
+    if constexpr (!WALL) k.Tn = k.Tn - Mq * n;
   }
-  template <class N, class C, class H>
-  static double energy(const C& c, const EnergyCtx& e, const H& h) {
-    double kn, kt;
+  template <class N, class C, class R, class H>
+  static R energy(const C& c, const EnergyCtx<R>& e, const H& h) {
+    R kn, kt;
     N::stiffness(c, e.x, e.Rbar, kn, kt);
-    const double a = c.beta * e.Rbar;
-    const double q = h.scal(0);
+    const R a = c.beta * e.Rbar;
+    const R q = h.scal(0);
     return 0.5 * 2.0 * kt * a * a * q * q;
   }
 };
