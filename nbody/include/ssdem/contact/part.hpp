@@ -1,7 +1,7 @@
 /// @file part.hpp
 /// What every contact sub-model (a "part") of the soft-sphere law shares: the per-pair working
 /// context the pair kernel fills in (geometry, kinematics, stiffness, normal force, result), the
-/// declaration of a history field, and the view of one pair's history row.
+/// declaration of a history field, and the view of a pair's (or a pack's) history.
 ///
 /// A part is a struct with (see normal_linear.hpp for the smallest one):
 ///   name, flag (its bit in ContactParams::parts; 0 = the default of its slot), slot, help
@@ -14,7 +14,7 @@
 ///                     Coulomb/rolling/twisting limits, which use |F_N| of this phase)
 ///   tangent_phase<PARTS, WALL, N>(coeffs, ctx, hist) everything else (after the history has
 ///                     been transported with the contact frame)
-///   energy<N>(coeffs, ectx, row)  elastic energy it stores in one contact [J]
+///   energy<N>(coeffs, ectx, hist)  elastic energy it stores in one contact [J]
 /// N is the normal law chosen for the kernel (stiffness and dashpot coefficients depend on it).
 /// The phases are written once in lane arithmetic (lanes.hpp) on PairCtx<R>: R = double is one
 /// pair, R = Lanes a pack of pairs evaluated together; branches are masks (select), so that each
