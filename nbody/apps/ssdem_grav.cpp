@@ -1,6 +1,8 @@
 /// @file ssdem_grav.cpp
 /// ssdem-grav: self-gravity + soft-sphere DEM. Thin main over the nbody library (run.hpp); the MPI
 /// build (SSDEM_MPI) runs mpi/run_mpi.hpp on more than one rank.
+#include <cstdio>
+
 #include "common/cli.hpp"
 #include "ssdem/run.hpp"
 #include "ssdem/scene_setup.hpp"
@@ -11,6 +13,14 @@
 #endif
 
 int main(int argc, char** argv) {
+#if defined(SSDEM_CONTACT_AVX2) && defined(__x86_64__)
+  // the contact kernel was compiled for AVX2 (CMake SUITE_SIMD): say so rather than die on SIGILL
+  if (!__builtin_cpu_supports("avx2")) {
+    std::fprintf(stderr, "ssdem-grav: this binary was built with AVX2 (SUITE_SIMD) and this CPU has no AVX2; "
+                         "rebuild with cmake -DSUITE_SIMD=baseline\n");
+    return 4;
+  }
+#endif
 #ifdef SSDEM_MPI
   int level = 0, ranks = 1;
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &level);

@@ -157,12 +157,14 @@ TEST(ContactLanes, EveryLaneIsBitIdenticalToTheOnePairKernel) {
 }
 
 // compute() in packs against the one-pair kernel over the same pair list, per sphere in compute's
-// order (pairs where the sphere is the j member, ascending, then those where it is the i member).
+// order (pairs where the sphere is the j member, ascending, then those where it is the i member):
+// forces, torques and dissipated energy; every other step through a multi-rate Subset with a
+// step of its own for each pair.
 TEST(ContactLanes, ComputeInPacksMatchesTheOnePairLoopBitForBit) {
   std::mt19937_64 g(11);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   Spheres sp;
-  const int n = 27 * 27;  // a jittered square-ish lattice of touching spheres, some not touching
+  const int n = 9 * 9 * 9;  // a jittered cubic lattice of spheres, some touching, some not
   for (int k = 0; k < n; ++k) {
     const Vec3 x(2.0 * (k % 9) + 0.03 * u(g), 2.0 * ((k / 9) % 9) + 0.03 * u(g), 2.0 * (k / 81) + 0.03 * u(g));
     sp.push(k, x, Vec3(u(g), u(g), u(g)) * 1e-2, Vec3(u(g), u(g), u(g)) * 1e-2, 4000.0 * (1.0 + 0.1 * u(g)),
@@ -191,8 +193,24 @@ TEST(ContactLanes, ComputeInPacksMatchesTheOnePairLoopBitForBit) {
     prev = now;
     ref = nref;
     const std::vector<Vec3> vp = sp.v, wp = sp.w;
-    cs.compute(sp, vp, wp, h, F, T);
+    std::vector<double> diss(n, 0.0), hp(P, h);
+    if (step % 2 == 1) {
+      ContactSystem::Subset sub;
+      for (std::size_t q = 0; q < P; ++q) {
+        sub.pairs.push_back(static_cast<std::uint32_t>(q));
+        hp[q] = h * (0.5 + 0.5 * (u(g) + 1.0));
+        sub.hpair.push_back(hp[q]);
+      }
+      for (int k = 0; k < n; ++k) {
+        sub.spheres.push_back(static_cast<std::uint32_t>(k));
+        sub.hsphere.push_back(h);
+      }
+      cs.compute(sp, vp, wp, sub, F, T, diss.data());
+    } else {
+      cs.compute(sp, vp, wp, h, F, T, diss.data());
+    }
     std::vector<Vec3> pF(P), pTp(P), pTn(P);
+    std::vector<double> pD(P);
     std::vector<char> on(P);
     dispatch_parts(p.parts, [&](auto parts) {
       for (std::size_t q = 0; q < P; ++q) {
@@ -202,27 +220,36 @@ TEST(ContactLanes, ComputeInPacksMatchesTheOnePairLoopBitForBit) {
         const double mu = sp.m[i] * sp.m[j] / (sp.m[i] + sp.m[j]);
         on[q] = contact_pair<decltype(parts)::value, false>(coeffs, sp.x[j] - sp.x[i], sp.s[i], sp.s[j], mu, vp[i],
                                                             vp[j], wp[i], wp[j], sp.v[i], sp.v[j], sp.w[i], sp.w[j],
-                                                            h, act, ref.row(q), r);
+                                                            hp[q], act, ref.row(q), r);
         changes += (act != (ref.active[q] != 0));
         ref.active[q] = act;
         pF[q] = r.F;
         pTp[q] = r.Tp;
         pTn[q] = r.Tn;
+        pD[q] = r.diss;
       }
       return 0;
     });
     for (int k = 0; k < n; ++k) {
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+      double dk = 0.0;
       for (std::size_t q = 0; q < P; ++q)
-        if (cs.pair_j()[q] == static_cast<std::uint32_t>(k) && on[q]) {
-          f -= pF[q];
-          t += pTn[q];
+        if (cs.pair_j()[q] == static_cast<std::uint32_t>(k)) {
+          if (on[q]) {
+            f -= pF[q];
+            t += pTn[q];
+          }
+          dk += 0.5 * pD[q];
         }
       for (std::size_t q = 0; q < P; ++q)
-        if (cs.pair_i()[q] == static_cast<std::uint32_t>(k) && on[q]) {
-          f += pF[q];
-          t += pTp[q];
+        if (cs.pair_i()[q] == static_cast<std::uint32_t>(k)) {
+          if (on[q]) {
+            f += pF[q];
+            t += pTp[q];
+          }
+          dk += 0.5 * pD[q];
         }
+      ASSERT_TRUE(same(diss[k], 0.0 + dk)) << "step " << step << " sphere " << k;
       ASSERT_TRUE(same(F[k], f)) << "step " << step << " sphere " << k << ": " << F[k].transpose() << " vs "
                                   << f.transpose();
       ASSERT_TRUE(same(T[k], t)) << "step " << step << " sphere " << k;

@@ -79,8 +79,9 @@ struct PairIn {
   R sp, sn, mu, h;
   V3<R> vp, vn, wp, wn, vp_half, vn_half, wp_half, wn_half;
 };
-/// Outputs: force on p, torques, overlap (lanes in contact) and the energy dissipated over the
-/// step (in contact: the parts'; released: the energy its history springs held; else 0).
+/// Outputs: force on p, torques, overlap (meaningful in lanes in contact only: a pack's other
+/// lanes hold whatever they computed) and the energy dissipated over the step (every lane: in
+/// contact, the parts'; released, the energy its history springs held; else 0).
 template <class R>
 struct PairOut {
   V3<R> F, Tp, Tn;

@@ -4,7 +4,10 @@
 /// (R = Lanes, a GCC/Clang vector of doubles: one SIMD instruction per operation, masks instead
 /// of branches). The pack kernel does in each lane exactly the IEEE operations of the one-pair
 /// kernel, in the same order (no fused multiply-add: the build does not enable it), so both give
-/// bit-identical results, and so do builds with 2 (SSE2) and 4 (AVX) lanes.
+/// bit-identical results, and so do builds with 2 (SSE2) and 4 (AVX) lanes. The nbody target is
+/// compiled with -ffp-contract=off so that no compiler fuses them where FMA exists (aarch64,
+/// -march=native). Lanes that a mask discards may divide by zero or take the root of a negative
+/// number: a build that traps floating-point exceptions would trap there.
 ///   V3<R>            a 3-vector of R (dot and squaredNorm summed left to right, as Eigen does)
 ///   select(m, a, b)  a where m, else b (lane-wise)
 ///   any(m), none(m)  over the lanes
@@ -20,6 +23,9 @@
 
 #if defined(__SSE2__)
 #include <immintrin.h>
+#endif
+#if defined(__FP_FAST_FMA)
+#warning "fused multiply-add contraction is on: contact lanes and one-pair kernel may round differently (use -ffp-contract=off)"
 #endif
 
 namespace ssdem {
@@ -41,13 +47,7 @@ using MaskOf = std::conditional_t<is_pack<R>, LaneMask, bool>;
 template <class R>
 inline constexpr int lanes_of = is_pack<R> ? kLanes : 1;
 
-template <class R>
-[[gnu::always_inline]] inline R splat(double x) {
-  if constexpr (is_pack<R>)
-    return Lanes{} + x;
-  else
-    return x;
-}
+
 [[gnu::always_inline]] inline double& lane(double& r, int) { return r; }
 [[gnu::always_inline]] inline double lane(const double& r, int) { return r; }
 [[gnu::always_inline]] inline bool lane(bool m, int) { return m; }
@@ -120,6 +120,15 @@ template <class F, std::size_t... L>
 template <class F>
 [[gnu::always_inline]] inline LaneMask mask_from(const F& f) {
   return mask_from_impl(f, std::make_index_sequence<kLanes>{});
+}
+
+/// x in every lane (a negative zero stays negative).
+template <class R>
+[[gnu::always_inline]] inline R splat(double x) {
+  if constexpr (is_pack<R>)
+    return lanes_from([&](int) { return x; });
+  else
+    return x;
 }
 
 /// A 3-vector of R.
