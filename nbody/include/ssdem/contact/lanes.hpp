@@ -24,9 +24,6 @@
 #if defined(__SSE2__)
 #include <immintrin.h>
 #endif
-#if defined(__FP_FAST_FMA)
-#warning "fused multiply-add contraction is on: contact lanes and one-pair kernel may round differently (use -ffp-contract=off)"
-#endif
 
 namespace ssdem {
 
