@@ -5,7 +5,7 @@
 // transport angle past the Taylor range (libm path), turns wider than 90 degrees, zero spins
 // and no tilt. Then ContactSystem::compute (packs, gathered and scattered) against a loop of the
 // one-pair kernel over the same pairs, summed per sphere in compute's order, over steps in which
-// contacts open and close. This file is compiled twice when SUITE_SIMD gives AVX2 (4 lanes, and
+// contacts open and close. The cases are awkward_pairs.hpp's. This file is compiled twice when SUITE_SIMD gives AVX2 (4 lanes, and
 // the baseline's 2), so both widths are checked.
 #include <gtest/gtest.h>
 
@@ -13,6 +13,7 @@
 #include <map>
 #include <random>
 
+#include "awkward_pairs.hpp"
 #include "ssdem/contacts.hpp"
 
 using namespace ssdem;
@@ -21,51 +22,7 @@ namespace {
 bool same(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 bool same(const Vec3& a, const Vec3& b) { return same(a[0], b[0]) && same(a[1], b[1]) && same(a[2], b[2]); }
 
-Vec3 unit(std::mt19937_64& g) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Vec3(n(g), n(g), n(g)).normalized();
-}
-
-struct Case {
-  PairIn<double> in;
-  HistOf<double> hist;
-  bool active;
-};
-
-// Pairs of unit-ish spheres: gap from -3 % to +1 % of the reach (about one in five not touching),
-// velocities ~1e-3, spins ~1e-2 with one pair in eight spinning fast enough to leave the Taylor
-// range, history springs from small to far beyond the friction limits, n_old near n, equal to it,
-// or turned by more than 90 degrees.
-Case make_case(std::mt19937_64& g, double kn) {
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  Case c;
-  const double sp = 0.5 + u(g), sn = 0.5 + u(g);
-  const Vec3 dir = unit(g);
-  const double reach = sp + sn;
-  c.in.rho = V3<double>(dir * (reach * (0.97 + 0.04 * u(g))));
-  c.in.sp = sp;
-  c.in.sn = sn;
-  c.in.mu = (1.0 + u(g)) * (1.0 + u(g)) / (2.0 + u(g));
-  c.in.h = 1e-3 * (0.5 + u(g));
-  auto vec = [&](double s) { return V3<double>(unit(g) * (s * u(g))); };
-  const double ws = u(g) < 0.125 ? 300.0 : 1e-2;
-  c.in.vp = vec(1e-3);
-  c.in.vn = vec(1e-3);
-  c.in.wp = vec(ws);
-  c.in.wn = vec(ws);
-  c.in.vp_half = vec(1e-3);
-  c.in.vn_half = vec(1e-3);
-  c.in.wp_half = u(g) < 0.1 ? V3<double>::zero() : vec(ws);
-  c.in.wn_half = u(g) < 0.1 ? c.in.wp_half * -1.0 : vec(ws);
-  const double r = u(g);
-  Vec3 no = r < 0.1 ? dir : (r < 0.2 ? Vec3(-dir + 0.3 * unit(g)).normalized() : Vec3(dir + 0.01 * unit(g)).normalized());
-  c.hist.v[0] = V3<double>(no);
-  const double big = (1.0 + u(g)) * (u(g) < 0.5 ? 1e-6 : 1e-1) * 1e9 / kn;
-  for (int i = 1; i < kHistVec; ++i) c.hist.v[i] = vec(big);
-  for (int i = 0; i < kHistScal; ++i) c.hist.q[i] = (u(g) - 0.5) * big;
-  c.active = u(g) < 0.7;
-  return c;
-}
+using Case = test::AwkwardPair;
 
 template <unsigned PARTS>
 void check_parts(const ContactParams& p, std::uint64_t seed) {
@@ -75,7 +32,7 @@ void check_parts(const ContactParams& p, std::uint64_t seed) {
   int contacts = 0, released = 0, started = 0;
   for (int b = 0; b < kPacks; ++b) {
     Case cs[kLanes];
-    for (auto& x : cs) x = make_case(g, p.kn > 0 ? p.kn : 1e9);
+    for (auto& x : cs) x = test::awkward_pair(g, PARTS, p.kn > 0 ? p.kn : 1e9);
     // one pair at a time
     PairOut<double> o1[kLanes];
     HistOf<double> h1[kLanes];

@@ -13,7 +13,7 @@
 ///   any(m), none(m)  over the lanes
 ///   lsqrt, lmin, labs  lane-wise sqrt (correctly rounded), std::min semantics, |x|
 ///   splat<R>(x)      x in every lane
-///   lanes_of<R>      1 or kLanes; lane(r, l) reads or writes lane l
+///   lane(r, l), set_lane(r, l, x)  read / write lane l (one pair: the value itself)
 #pragma once
 #include <cmath>
 #include <type_traits>
@@ -41,11 +41,8 @@ template <class R>
 inline constexpr bool is_pack = std::is_same_v<R, Lanes>;
 template <class R>
 using MaskOf = std::conditional_t<is_pack<R>, LaneMask, bool>;
-template <class R>
-inline constexpr int lanes_of = is_pack<R> ? kLanes : 1;
 
 
-[[gnu::always_inline]] inline double& lane(double& r, int) { return r; }
 [[gnu::always_inline]] inline double lane(const double& r, int) { return r; }
 [[gnu::always_inline]] inline bool lane(bool m, int) { return m; }
 [[gnu::always_inline]] inline void set_lane(double& r, int, double x) { r = x; }
