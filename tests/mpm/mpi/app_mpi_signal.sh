@@ -11,6 +11,7 @@ run=("$@")
 w=$(mktemp -d "${TMPDIR:-/tmp}/mpm_app_mpi_signal.XXXXXX")
 trap 'rm -rf "$w"' EXIT
 fail() { echo "FAIL: $*" >&2; exit 1; }
+. "$(dirname "$0")/../../common/mpi_signal_rank.sh"
 common=(--scene "$scene" --quiet --set time.end=0.03 --set output.snapshot_interval=0.01)
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set "output.directory=\"$w/sig\"" &
 mpirun_pid=$!
@@ -18,14 +19,8 @@ for _ in $(seq 1 600); do  # the initial snapshot: the ranks are stepping
   ls "$w"/sig/*_000000.h5 >/dev/null 2>&1 && break
   sleep 0.05
 done
-# a rank: a child of mpirun (from /proc, no procps needed)
-rank_pid=$(grep -l "^PPid:[[:space:]]*$mpirun_pid\$" /proc/[0-9]*/status 2>/dev/null | tail -1 | cut -d/ -f3 || true)
-[ -n "$rank_pid" ] || fail "no rank process under mpirun $mpirun_pid"
-kill -TERM "$rank_pid"
-set +e
-wait "$mpirun_pid"
-rc=$?
-set -e
+signal_one_rank TERM "$mpirun_pid" || fail "no rank process under mpirun $mpirun_pid"
+rc=$mpirun_rc
 [ "$rc" -eq 143 ] || fail "exit $rc after SIGTERM, expected 143"
 ck="$(ls "$w"/sig/*_checkpoint.h5)"
 k=$(h5dump -a /mpm_state/step "$ck" | sed -n 's/.*(0): \([0-9]*\).*/\1/p')

@@ -1,0 +1,15 @@
+# Sourced by the MPI end-to-end tests (tests/*/mpi/app_mpi_*.sh).
+# signal_one_rank SIG MPIRUN_PID: sends SIG to one rank of the job that mpirun MPIRUN_PID runs (a
+# child of mpirun, found in /proc, no procps needed), waits for mpirun (so it must be called from
+# the shell that started it, not in a subshell) and sets mpirun_rc to its exit code. Returns 1 if
+# mpirun has no child.
+signal_one_rank() {
+  local sig=$1 pid=$2 rank_pid
+  rank_pid=$(grep -l "^PPid:[[:space:]]*$pid\$" /proc/[0-9]*/status 2>/dev/null | tail -1 | cut -d/ -f3 || true)
+  [ -n "$rank_pid" ] || return 1
+  kill "-$sig" "$rank_pid"
+  set +e
+  wait "$pid"
+  mpirun_rc=$?
+  set -e
+}
