@@ -27,9 +27,12 @@ def perturbed_copy(src, dst, rel=1e-12):
     shutil.copyfile(src, dst)
     with h5py.File(dst, "r+") as f:
         x = f["spheres/position"]
-        k = int(x.shape[0] // 2)  # a sphere inside the body
+        k = int(x.shape[0] // 2)  # a sphere inside the body, not at the origin (a lattice hand-off
+        while not x[k, :].any():  # can put one there, where a relative change is no change)
+            k = (k + 1) % x.shape[0]
         p = x[k, :]
-        p[0] *= 1.0 + rel
+        c = int(abs(p).argmax())
+        p[c] *= 1.0 + rel
         x[k, :] = p
     return dst
 
