@@ -42,7 +42,6 @@ inline constexpr bool is_pack = std::is_same_v<R, Lanes>;
 template <class R>
 using MaskOf = std::conditional_t<is_pack<R>, LaneMask, bool>;
 
-
 [[gnu::always_inline]] inline double lane(const double& r, int) { return r; }
 [[gnu::always_inline]] inline bool lane(bool m, int) { return m; }
 [[gnu::always_inline]] inline void set_lane(double& r, int, double x) { r = x; }
