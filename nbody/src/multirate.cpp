@@ -17,7 +17,6 @@
 namespace ssdem {
 namespace {
 constexpr std::size_t kOmpMin = 2048;  // below this many spheres a loop runs serially
-constexpr int kMaxLevel = 30;          // 2^30 base steps: far beyond any gravity block
 }  // namespace
 
 PairClock::PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax)
@@ -58,25 +57,98 @@ void Simulation::setup_multirate(const SimState* st) {
   cfg_.gravity_every = floor_pow2(std::max(cfg_.gravity_every, 1));
   cfg_.gravity_max_every = floor_pow2(std::max(cfg_.gravity_max_every, 1));
   const std::size_t n = sp_.size();
-  level_.assign(n, 0);
+  lr_.reset(n, st ? &st->level : nullptr);
   tau_prev_.assign(n, 0.0);
-  if (st && st->level.size() == n) level_ = st->level;
   if (st && st->tau_prev.size() == n) tau_prev_ = st->tau_prev;
-  sync_.assign(n, 0);
-  promoted_.assign(n, 0);
-  lflag_.assign(n, 0);
-  unsettled_valid_ = false;
   topen_.assign(n, 0);
   hopen_.assign(n, 0.0);
   lstats_.now.assign(kMaxLevel + 1, 0);
   lstats_.sphere_time.assign(kMaxLevel + 1, 0.0);
-  for (std::uint8_t l : level_) ++lstats_.now[std::min<int>(l, kMaxLevel)];
+  for (std::uint8_t l : lr_.level) ++lstats_.now[std::min<int>(l, kMaxLevel)];
   if (contacts_) {
     contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
-    near_gap_ = 0.5 * contacts_->skin();
-    clock_ = PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel);
+    lr_.configure(PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel), 0.5 * contacts_->skin());
     if (bonds_) setup_bond_levels();  // bonds need contacts
   }
+}
+
+void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
+                    double h, bool extrap, double* tau_out) {
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
+  for (std::size_t r = 0; r < na; ++r) {
+    const std::uint32_t i = active[r];
+    const double tau = static_cast<double>(step - s.topen[i]) * h;
+    tau_out[r] = tau;
+    const double hc = tau - s.hopen[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
+    s.vpred[i] = s.sp.v[i] + hc * s.a[i];
+    s.wpred[i] = s.sp.w[i] + hc * s.alpha[i];
+    if (extrap) {
+      if (s.tau_prev[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
+        s.vpred[i] += 0.5 * tau * (s.a[i] - s.a_prev[i]);
+        s.wpred[i] += 0.5 * tau * (s.alpha[i] - s.alpha_prev[i]);
+      }
+      s.a_prev[i] = s.a[i];
+      s.alpha_prev[i] = s.alpha[i];
+    }
+    s.tau_prev[i] = tau;
+    if (s.promoted[i]) {  // opening kick h_open a_old -> (tau/2) a_old
+      const double c = 0.5 * tau - s.hopen[i];
+      s.sp.v[i] += c * s.a[i];
+      s.sp.w[i] += c * s.alpha[i];
+    }
+  }
+}
+
+Substep::Substep(double h_, int K_, std::int64_t step, std::int64_t block_start)
+    : h(h_), hk(0.5 * h_ * K_), K(K_), L(trailing_level(K_)), tz(0), s0(step - block_start), opens(s0 == 0),
+      closes(s0 + 1 == K_) {
+  tz = std::min(trailing_level(s0 + 1), L);
+}
+
+void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
+                    double hk, bool gravity_kick, bool spin) {
+  const std::size_t n = k.level.size();
+#pragma omp parallel for schedule(static) if (n >= kOmpMin)
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::int64_t len = std::int64_t{1} << k.level[i];
+    const bool opens = (s0 & (len - 1)) == 0;  // synchronised now
+    if (mask && !mask[i]) {
+      if (opens) k.topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
+      continue;
+    }
+    if (gravity_kick) k.sp.v[i] += hk * k.ag[i];
+    if (opens) {  // opening kick
+      const double ho = 0.5 * h * static_cast<double>(len);
+      k.hopen[i] = ho;
+      k.topen[i] = step;
+      k.sp.v[i] += ho * k.a[i];
+      if (spin) k.sp.w[i] += ho * k.alpha[i];
+    }
+    k.sp.x[i] += h * k.sp.v[i];
+  }
+}
+
+void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
+                 double hk, bool gravity_kick, bool spin) {
+#pragma omp parallel for schedule(static) if (na >= kOmpMin)
+  for (std::size_t r = 0; r < na; ++r) {
+    const std::uint32_t i = active[r];
+    const double hc = 0.5 * (static_cast<double>(step - k.topen[i]) * h);
+    k.sp.v[i] += hc * k.a[i];
+    if (spin) k.sp.w[i] += hc * k.alpha[i];
+    if (gravity_kick) k.sp.v[i] += hk * k.ag[i];
+  }
+}
+
+void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
+                  const std::vector<std::int64_t>& topen, const double* tau) {
+  for (std::size_t r = 0; r < na; ++r) {
+    // level of the step: floor(log2(tau / h)) of the integer step count (tau = k h exactly for
+    // k a power of two, so this is ilogb(tau / h))
+    const auto k = static_cast<std::uint64_t>(step - topen[active[r]]);
+    ls.sphere_time[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += tau[r];
+  }
+  ls.evaluations += static_cast<std::int64_t>(na);
 }
 
 // Contact forces of the active spheres (each with its own step), accelerations, and the
@@ -94,133 +166,38 @@ void Simulation::multirate_forces() {
   }
   subset_.spheres = active_;
   subset_.hsphere.resize(na);
+  predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_, lr_.promoted},
+                 active_.data(), na, step_, h, extrap, subset_.hsphere.data());
+  count_active(lstats_, active_.data(), na, step_, topen_, subset_.hsphere.data());
   bool uniform = na == n;
-  double tau0 = 0.0;
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t i = active_[r];
-    const double tau = static_cast<double>(step_ - topen_[i]) * h;
-    subset_.hsphere[r] = tau;
-    const double hc = tau - hopen_[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
-    vpred_[i] = sp_.v[i] + hc * a_[i];
-    wpred_[i] = sp_.w[i] + hc * alpha_[i];
-    if (extrap) {
-      if (tau_prev_[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
-        vpred_[i] += 0.5 * tau * (a_[i] - a_prev_[i]);
-        wpred_[i] += 0.5 * tau * (alpha_[i] - alpha_prev_[i]);
-      }
-      a_prev_[i] = a_[i];
-      alpha_prev_[i] = alpha_[i];
-    }
-    tau_prev_[i] = tau;
-    if (promoted_[i]) {  // opening kick h_open a_old -> (tau/2) a_old
-      const double c = 0.5 * tau - hopen_[i];
-      sp_.v[i] += c * a_[i];
-      sp_.w[i] += c * alpha_[i];
-    }
-  }
-  for (std::size_t r = 0; r < na; ++r) {
-    const double tau = subset_.hsphere[r];
-    if (r == 0) tau0 = tau;
-    uniform = uniform && tau == tau0;
-    // level of the step: floor(log2(tau / h)) of the integer step count (tau = k h exactly for
-    // k a power of two, so this is ilogb(tau / h))
-    const auto k = static_cast<std::uint64_t>(step_ - topen_[active_[r]]);
-    lstats_.sphere_time[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += tau;
-  }
-  lstats_.evaluations += static_cast<std::int64_t>(na);
+  const double tau0 = na > 0 ? subset_.hsphere[0] : 0.0;
+  for (std::size_t r = 0; r < na && uniform; ++r) uniform = subset_.hsphere[r] == tau0;
   if (contacts_) {
     if (uniform) {  // everyone active with one step: the single-rate kernel call
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_, sp_.dissipated.data());
     } else {
-      // every listed pair with an active member: pairs in contact have both members active (near
-      // pairs share a level); a pair with one active member is evaluated too, so that a contact
-      // flag left from its last evaluation is reset, never gathered stale (it is not near: no force)
-      const auto& pi = contacts_->pair_i();
-      const auto& pj = contacts_->pair_j();
-      const auto& ri = contacts_->row_i();
-      const auto& rj = contacts_->row_j();
-      const auto& jp = contacts_->jpair();
-      // (in parallel: per active sphere its count, an exclusive prefix sum, then each sphere
-      // fills its own slots, in the order of the serial loop over active spheres)
-      auto hpair = [&](std::uint32_t p) {
-        const std::uint32_t i = pi[p], j = pj[p];
-        const std::int64_t ti = sync_[i] ? step_ - topen_[i] : INT64_MAX;
-        const std::int64_t tj = sync_[j] ? step_ - topen_[j] : INT64_MAX;
-        return static_cast<double>(std::min(ti, tj)) * h;
-      };
-      subset_off_.resize(na + 1);
-      subset_off_[0] = 0;
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-      for (std::size_t r = 0; r < na; ++r) {
-        const std::uint32_t k = active_[r];
-        std::size_t c = ri[k + 1] - ri[k];
-        for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) c += sync_[pi[jp[q]]] ? 0 : 1;
-        subset_off_[r + 1] = c;
-      }
-      for (std::size_t r = 0; r < na; ++r) subset_off_[r + 1] += subset_off_[r];
-      subset_.pairs.resize(subset_off_[na]);
-      subset_.hpair.resize(subset_off_[na]);
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-      for (std::size_t r = 0; r < na; ++r) {
-        const std::uint32_t k = active_[r];
-        std::size_t o = subset_off_[r];
-        for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p, ++o) {
-          subset_.pairs[o] = p;
-          subset_.hpair[o] = hpair(p);
-        }
-        for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
-          if (!sync_[pi[jp[q]]]) {  // else added from its i member
-            subset_.pairs[o] = jp[q];
-            subset_.hpair[o++] = hpair(jp[q]);
-          }
-      }
+      multirate_subset(*contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
     }
     // bonds of synchronised spheres (both ends always together), each with its spheres' step
-    if (bonds_) bonds_->compute_synchronised(sp_, sync_, topen_, step_, h, F_, T_);
+    if (bonds_) bonds_->compute_synchronised(sp_, lr_.sync, topen_, step_, h, F_, T_);
   }
   accelerations(active_.data(), na);
 }
 
 void Simulation::step_multirate() {
   const std::size_t n = sp_.size();
-  const double h = cfg_.dt;
   const bool spin = contacts_ != nullptr;
   const bool sg = cfg_.self_gravity;
-  const int K = block_;  // a power of two (close_gravity_block)
-  const int L = trailing_level(K);
-  const double hk = 0.5 * h * K;
-  const std::int64_t s0 = step_ - block_start_;
-  const bool open_block = s0 == 0;
-  const bool open_kick = sg && open_block;
+  const Substep ss(cfg_.dt, block_, step_, block_start_);
   double t0 = omp_get_wtime(), c0 = cpu_now_();
-  if (open_block)
-    for (std::size_t i = 0; i < n; ++i)
-      if (level_[i] > L) {
-        level_[i] = static_cast<std::uint8_t>(L);
-        lflag_[i] = 1;
-      }
-  const std::int64_t st = step_;
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (open_kick) sp_.v[i] += hk * ag_[i];
-    const std::int64_t len = std::int64_t{1} << level_[i];
-    if ((s0 & (len - 1)) == 0) {  // opening kick of a sphere synchronised now
-      const double ho = 0.5 * h * static_cast<double>(len);
-      hopen_[i] = ho;
-      topen_[i] = st;
-      sp_.v[i] += ho * a_[i];
-      if (spin) sp_.w[i] += ho * alpha_[i];
-    }
-    sp_.x[i] += h * sp_.v[i];
-  }
+  if (ss.opens) lr_.cap(ss.L);
+  const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
+  open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin);
   ++step_;
-  time_ = static_cast<double>(step_) * h;
+  time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now_() - c0;
-  const std::int64_t s1 = s0 + 1;
-  const int tz = std::min(trailing_level(s1), L);
   if (contacts_) {
     t0 = omp_get_wtime();
     c0 = cpu_now_();
@@ -230,17 +207,15 @@ void Simulation::step_multirate() {
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  for (std::size_t i = 0; i < n; ++i) {
-    sync_[i] = level_[i] <= tz ? 1 : 0;
-    promoted_[i] = 0;
-  }
+  lr_.begin(ss.tz);
   if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
-  update_pair_levels();
-  assign_levels(tz, L);
-  equalise_levels(tz);
+  if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
+  lr_.assign(sp_, contacts_.get(), ss.tz, ss.L, bterms_.get());
+  if (contacts_) lr_.equalise(sp_, *contacts_, ss.tz, bterms_.get());
+  lstats_.promotions = lr_.promotions;
   active_.clear();
   for (std::size_t i = 0; i < n; ++i)
-    if (sync_[i]) active_.push_back(static_cast<std::uint32_t>(i));
+    if (lr_.sync[i]) active_.push_back(static_cast<std::uint32_t>(i));
   const double tl = omp_get_wtime() - t0;
   times_.levels += tl;
   times_.integrate += tl;
@@ -250,27 +225,18 @@ void Simulation::step_multirate() {
   multirate_forces();
   times_.contacts += omp_get_wtime() - t0;
   times_.cpu_contacts += cpu_now_() - c0;
-  const bool close_kick = s1 == K;
-  if (sg && close_kick) {
+  if (sg && ss.closes) {
     if (cfg_.adaptive_gravity) ag_old_ = ag_;
     compute_gravity(false);
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  const std::size_t na = active_.size();
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t i = active_[r];
-    const double hc = 0.5 * (static_cast<double>(step_ - topen_[i]) * h);
-    sp_.v[i] += hc * a_[i];
-    if (spin) sp_.w[i] += hc * alpha_[i];
-    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
-  }
+  close_kicks(kicks, active_.data(), active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin);
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now_() - c0;
-  if (close_kick) {
+  if (ss.closes) {
     std::fill(lstats_.now.begin(), lstats_.now.end(), 0);
-    for (std::size_t i = 0; i < n; ++i) ++lstats_.now[level_[i]];
+    for (std::size_t i = 0; i < n; ++i) ++lstats_.now[lr_.level[i]];
     close_gravity_block();
   }
   ++times_.steps;

@@ -6,17 +6,54 @@
 /// terms of the level rule (l_i <= l_b) and of the equalisation (l_a = l_b-ends = min(l_a, l_b,
 /// l_bond) for every intact bond, whatever its gap). Built only when the scene has bonds.
 #include <algorithm>
+#include <memory>
 
 #include "ssdem/simulation.hpp"
 
 namespace ssdem {
 
+// The bond terms of the level rules (LevelRules::BondTerms), over the intact-bond index (bond_index).
+struct Simulation::BondLevelTerms final : LevelRules::BondTerms {
+  explicit BondLevelTerms(Simulation& s) : sim(s) {}
+  Simulation& sim;
+  // min(c, l_b of sphere i's intact bonds)
+  int cap(std::uint32_t i, int c) const override {
+    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1] && c > 0; ++q)
+      c = std::min<int>(c, sim.blevel_[sim.badj_[q]]);
+    return c;
+  }
+  // min(t, min over i's intact bonds of min(l_partner, l_b)): the Jacobi bound of the equalisation
+  int bound(std::uint32_t i, int t) const override {
+    const auto& ia = sim.bonds_->index_a();
+    const auto& ib = sim.bonds_->index_b();
+    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1] && t > 0; ++q) {
+      const std::uint32_t k = sim.badj_[q];
+      const std::uint32_t j = ia[k] == i ? ib[k] : ia[k];
+      t = std::min({t, static_cast<int>(sim.lr_.level[j]), static_cast<int>(sim.blevel_[k])});
+    }
+    return t;
+  }
+  // Worklist step of the equalisation over sphere i's intact bonds: both ends to min(l_a, l_b, l_bond).
+  void enforce(std::uint32_t i, int tz, LevelRules& r) override {
+    const auto& ia = sim.bonds_->index_a();
+    const auto& ib = sim.bonds_->index_b();
+    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1]; ++q) {
+      const std::uint32_t k = sim.badj_[q];
+      const std::uint32_t a = ia[k], b = ib[k];
+      const int t = std::min({static_cast<int>(r.level[a]), static_cast<int>(r.level[b]), static_cast<int>(sim.blevel_[k])});
+      r.lower(a, t, tz);
+      r.lower(b, t, tz);
+    }
+  }
+};
+
 void Simulation::setup_bond_levels() {
   const std::size_t nb = bonds_->index_a().size();
   blevel_.resize(nb);
   for (std::size_t k = 0; k < nb; ++k)
-    blevel_[k] = static_cast<std::uint8_t>(clock_.level_of_time(bonds_->mode_time(k, sp_)));
+    blevel_[k] = static_cast<std::uint8_t>(lr_.clock().level_of_time(bonds_->mode_time(k, sp_)));
   bond_index();
+  bterms_ = std::make_unique<BondLevelTerms>(*this);
 }
 
 // The intact bonds of every sphere (CSR, ascending bond order), rebuilt at the level decision
@@ -42,37 +79,6 @@ void Simulation::bond_index() {
       badj_[bfill_[ib[k]]++] = static_cast<std::uint32_t>(k);
     }
   bond_breaks_seen_ = bonds_->breaks();
-}
-
-// min(c, l_b of sphere i's intact bonds)
-int Simulation::bond_cap(std::uint32_t i, int c) const {
-  for (std::uint32_t q = brow_[i]; q < brow_[i + 1] && c > 0; ++q) c = std::min<int>(c, blevel_[badj_[q]]);
-  return c;
-}
-
-// min(t, min over i's intact bonds of min(l_partner, l_b)): the Jacobi bound of the equalisation
-int Simulation::bond_bound(std::uint32_t i, int t) const {
-  const auto& ia = bonds_->index_a();
-  const auto& ib = bonds_->index_b();
-  for (std::uint32_t q = brow_[i]; q < brow_[i + 1] && t > 0; ++q) {
-    const std::uint32_t k = badj_[q];
-    const std::uint32_t j = ia[k] == i ? ib[k] : ia[k];
-    t = std::min({t, static_cast<int>(level_[j]), static_cast<int>(blevel_[k])});
-  }
-  return t;
-}
-
-// Worklist step of the equalisation over sphere i's intact bonds: both ends to min(l_a, l_b, l_bond).
-void Simulation::enforce_bonds(std::uint32_t i, int tz) {
-  const auto& ia = bonds_->index_a();
-  const auto& ib = bonds_->index_b();
-  for (std::uint32_t q = brow_[i]; q < brow_[i + 1]; ++q) {
-    const std::uint32_t k = badj_[q];
-    const std::uint32_t a = ia[k], b = ib[k];
-    const int t = std::min({static_cast<int>(level_[a]), static_cast<int>(level_[b]), static_cast<int>(blevel_[k])});
-    lower_level(a, t, tz, work_);
-    lower_level(b, t, tz, work_);
-  }
 }
 
 }  // namespace ssdem

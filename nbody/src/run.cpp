@@ -125,6 +125,41 @@ OutputPlan output_plan(const common::Scene& sc, const SimConfig& cfg, const std:
   p.n_end = (p.n_end + k - 1) / k * k;
   return p;
 }
+// levels.csv (multi-rate runs): spheres per level at each series row (a gravity-block boundary),
+// promotions in the middle of a step and sphere force evaluations so far.
+constexpr int kLevelColumns = 16;
+common::SeriesFormat levels_format() {
+  std::vector<common::SeriesColumn> cols = {{"step", ""}, {"time_s", "s"}};
+  for (int l = 0; l < kLevelColumns; ++l) cols.push_back({"n_level" + std::to_string(l), ""});
+  cols.push_back({"n_level_coarser", ""});
+  cols.push_back({"promotions", ""});
+  cols.push_back({"sphere_evaluations", ""});
+  return common::SeriesFormat(cols, {.precision = 17});
+}
+
+void levels_row(common::SeriesRow& lr, std::int64_t step, double time, const LevelStats& ls) {
+  lr.integer(step).num(time);
+  std::int64_t coarser = 0;
+  for (std::size_t l = kLevelColumns; l < ls.now.size(); ++l) coarser += ls.now[l];
+  for (int l = 0; l < kLevelColumns; ++l) lr.integer(static_cast<std::size_t>(l) < ls.now.size() ? ls.now[l] : 0);
+  lr.integer(coarser).integer(ls.promotions).integer(ls.evaluations);
+}
+
+// Levels used over the run: share of the simulated sphere-time per level.
+std::string levels_report(const LevelStats& l, std::int64_t steps, std::size_t spheres) {
+  double tot = 0;
+  for (double t : l.sphere_time) tot += t;
+  std::ostringstream os;
+  os << "multi-rate levels (step = 2^l dt): sphere-time share";
+  for (std::size_t k = 0; k < l.sphere_time.size(); ++k)
+    if (l.sphere_time[k] > 0) os << " l" << k << " " << l.sphere_time[k] / tot;
+  os << "; final histogram " << l.histogram_text() << "; " << l.promotions << " promotions in mid-step, "
+     << l.evaluations << " sphere evaluations in " << steps << " base steps ("
+     << static_cast<double>(l.evaluations) /
+            std::max<double>(1.0, static_cast<double>(steps) * static_cast<double>(spheres))
+     << " of single-rate)";
+  return os.str();
+}
 }  // namespace detail
 namespace {
 using detail::is_output;
@@ -140,40 +175,17 @@ std::string cadence_text(const SimConfig& c) {
   return os.str();
 }
 
-// levels.csv (multi-rate runs): spheres per level at each series row (a gravity-block boundary),
-// promotions in the middle of a step and sphere force evaluations so far.
-constexpr int kLevelColumns = 16;
-common::SeriesFormat levels_format() {
-  std::vector<common::SeriesColumn> cols = {{"step", ""}, {"time_s", "s"}};
-  for (int l = 0; l < kLevelColumns; ++l) cols.push_back({"n_level" + std::to_string(l), ""});
-  cols.push_back({"n_level_coarser", ""});
-  cols.push_back({"promotions", ""});
-  cols.push_back({"sphere_evaluations", ""});
-  return common::SeriesFormat(cols, {.precision = 17});
-}
-
-// Levels used over the run: share of the simulated sphere-time per level.
+// Levels used over the run, with the bonds' own levels l_b (multirate_bonds.cpp).
 std::string levels_report(const Simulation& sim) {
-  const LevelStats& l = sim.level_stats();
-  double tot = 0;
-  for (double t : l.sphere_time) tot += t;
-  std::ostringstream os;
-  os << "multi-rate levels (step = 2^l dt): sphere-time share";
-  for (std::size_t k = 0; k < l.sphere_time.size(); ++k)
-    if (l.sphere_time[k] > 0) os << " l" << k << " " << l.sphere_time[k] / tot;
-  os << "; final histogram " << l.histogram_text() << "; " << l.promotions << " promotions in mid-step, "
-     << l.evaluations << " sphere evaluations in " << sim.times().steps << " base steps ("
-     << static_cast<double>(l.evaluations) / std::max<double>(1.0, static_cast<double>(sim.times().steps) *
-                                                                      static_cast<double>(sim.spheres().size()))
-     << " of single-rate)";
-  if (!sim.bond_levels().empty()) {  // the bonds' own levels l_b (multirate_bonds.cpp)
+  std::string r = detail::levels_report(sim.level_stats(), sim.times().steps, sim.spheres().size());
+  if (!sim.bond_levels().empty()) {
     std::vector<std::int64_t> h(64, 0);
     for (std::uint8_t b : sim.bond_levels()) ++h[b];
-    os << "; bond levels l_b";
+    r += "; bond levels l_b";
     for (std::size_t k = 0; k < h.size(); ++k)
-      if (h[k] > 0) os << " l" << k << ":" << h[k];
+      if (h[k] > 0) r += " l" + std::to_string(k) + ":" + std::to_string(h[k]);
   }
-  return os.str();
+  return r;
 }
 
 // The cadence used and its estimated force error (simulation.hpp, error-controlled cadence).
@@ -308,7 +320,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
 
   std::optional<common::SeriesFile> levels_file;
   if (cfg.multirate)
-    levels_file.emplace((std::filesystem::path(dir) / "levels.csv").string(), levels_format(),
+    levels_file.emplace((std::filesystem::path(dir) / "levels.csv").string(), detail::levels_format(),
                         restart.empty() ? std::nullopt : std::optional(sim->step_count()));
   // E_0 of the energy error: the accounted energy of the first row (a restart: the checkpoint's)
   double E0 = energy0, last_level_log = -INFINITY;
@@ -328,12 +340,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     if (levels_file) {
       const LevelStats& ls = sim->level_stats();
       common::SeriesRow lr = levels_file->row();
-      lr.integer(sim->step_count()).num(sim->time());
-      std::int64_t coarser = 0;
-      for (std::size_t l = kLevelColumns; l < ls.now.size(); ++l) coarser += ls.now[l];
-      for (int l = 0; l < kLevelColumns; ++l)
-        lr.integer(static_cast<std::size_t>(l) < ls.now.size() ? ls.now[l] : 0);
-      lr.integer(coarser).integer(ls.promotions).integer(ls.evaluations);
+      detail::levels_row(lr, sim->step_count(), sim->time(), ls);
       levels_file->write(lr);
       if (progress.elapsed() - last_level_log >= progress_dt) {
         last_level_log = progress.elapsed();

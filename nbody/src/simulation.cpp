@@ -157,20 +157,24 @@ void Simulation::compute_forces(bool initial) {
   accelerations(nullptr, n);
 }
 
-// a = g_uniform + F/m, alpha = T/I for spheres idx[0..count) (all of 0..count if idx is null).
-void Simulation::accelerations(const std::uint32_t* idx, std::size_t count) {
-  const Vec3 g = cfg_.uniform_g;
-  const bool ct = contacts_ != nullptr;
+void accelerations(const Spheres& sp, const std::vector<Vec3>& F, const std::vector<Vec3>& T, const Vec3& g,
+                   bool contacts, const std::uint32_t* idx, std::size_t count, std::vector<Vec3>& a,
+                   std::vector<Vec3>& alpha) {
 #pragma omp parallel for schedule(static) if (count >= kOmpMin)
   for (std::size_t r = 0; r < count; ++r) {
     const std::size_t i = idx ? idx[r] : r;
-    Vec3 a = g;
-    if (ct) {
-      a += F_[i] / sp_.m[i];
-      alpha_[i] = T_[i] / sp_.inertia(i);
+    Vec3 ai = g;
+    if (contacts) {
+      ai += F[i] / sp.m[i];
+      alpha[i] = T[i] / sp.inertia(i);
     }
-    a_[i] = a;
+    a[i] = ai;
   }
+}
+
+// a = g_uniform + F/m, alpha = T/I for spheres idx[0..count) (all of 0..count if idx is null).
+void Simulation::accelerations(const std::uint32_t* idx, std::size_t count) {
+  ssdem::accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, idx, count, a_, alpha_);
 }
 
 void Simulation::step() {
@@ -327,7 +331,7 @@ SimState Simulation::state() const {
   s.alpha_prev = alpha_prev_;
   if (contacts_) s.history = contacts_->export_history(sp_);
   if (bonds_) s.bonds = bonds_->bonds();
-  s.level = level_;
+  s.level = lr_.level;
   s.tau_prev = tau_prev_;
   return s;
 }

@@ -88,13 +88,16 @@
 /// the sphere's near partners (gap < k/2, inside any halo of width >= the skin), the
 /// equalisation is a fixed point over near pairs (converges to the same result in any order, so
 /// a halo exchange of levels per iteration reproduces it), and synchronisation times are global
-/// (base substep counter), so ranks need to agree only on the block length.
+/// (base substep counter), so ranks need to agree only on the block length. This is how the MPI
+/// driver runs it (mpi/domain_sim.hpp, "Multi-rate steps"; level_rules.hpp), bit-identical to one
+/// rank.
 #pragma once
 #include <cstdint>
 #include <string>
 #include <vector>
 
 #include "ssdem/contact_params.hpp"
+#include "ssdem/spheres.hpp"
 
 namespace ssdem {
 
@@ -124,6 +127,68 @@ struct LevelStats {
   /// "l0:n0 l1:n1 ..." of `now` (levels with n > 0)
   std::string histogram_text() const;
 };
+
+/// Deepest level in use (2^30 base steps: far beyond any gravity block).
+constexpr int kMaxLevel = 30;
+
+/// The per-sphere arrays a multi-rate force evaluation reads and writes (Simulation, and the owned
+/// spheres of mpi::DomainSim).
+struct ActiveArrays {
+  Spheres& sp;
+  const std::vector<Vec3>& a;
+  const std::vector<Vec3>& alpha;
+  std::vector<Vec3>& vpred;
+  std::vector<Vec3>& wpred;
+  std::vector<Vec3>& a_prev;
+  std::vector<Vec3>& alpha_prev;
+  const std::vector<std::int64_t>& topen;  ///< base step of each sphere's opening kick
+  const std::vector<double>& hopen;        ///< half-step of that kick [s]
+  std::vector<double>& tau_prev;           ///< length of each sphere's previous step [s]
+  const std::vector<std::uint8_t>& promoted;
+};
+
+/// For the active spheres active[0..na) at base step `step` (base step h): their step
+/// tau = (step - topen) h (written to tau[r]), the predicted v, w of the dashpots (KDK: v_open +
+/// tau a_old, extrapolated by (tau/2)(a - a_prev) over equal steps when `extrap`), and for a
+/// promoted sphere its opening kick h_open a_old replaced by (tau/2) a_old (multirate.hpp).
+void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
+                    double h, bool extrap, double* tau);
+/// Adds the active spheres' steps to the level statistics (sphere-time per level, evaluations).
+void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
+                  const std::vector<std::int64_t>& topen, const double* tau);
+
+/// Where a base substep lies in its gravity block of K = 2^L base steps (K a power of two): s0 =
+/// step - block start; the block opens at s0 = 0 and closes after s0 = K - 1; hk = h K / 2 is the
+/// block's gravity half-kick; tz = min(trailing level of s0 + 1, L) is the coarsest level
+/// synchronised at the end of the substep.
+struct Substep {
+  Substep(double h_, int K_, std::int64_t step, std::int64_t block_start);
+  double h, hk;
+  int K, L, tz;
+  std::int64_t s0;
+  bool opens, closes;
+};
+
+/// The arrays the kicks and drifts of a multi-rate base substep update.
+struct KickArrays {
+  Spheres& sp;
+  const std::vector<Vec3>& a;      ///< contact + uniform acceleration
+  const std::vector<Vec3>& alpha;  ///< angular acceleration
+  const std::vector<Vec3>& ag;     ///< self-gravity (the block's outer kicks)
+  const std::vector<std::uint8_t>& level;
+  std::vector<std::int64_t>& topen;
+  std::vector<double>& hopen;
+};
+/// Opening half of base substep s0 of a gravity block, at base step `step`: every sphere i with
+/// mask null or mask[i] != 0 gets the block's opening gravity kick hk ag (when `gravity_kick`), its
+/// opening kick (h_l/2) a if synchronised at s0 (topen = step, hopen = h_l/2; the spin too when
+/// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) only records its opening step.
+void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
+                    double hk, bool gravity_kick, bool spin);
+/// Closing kicks of the active spheres: v += (tau/2) a with tau = (step - topen) h (spins likewise),
+/// plus the block's closing gravity kick hk ag when `gravity_kick`.
+void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
+                 double hk, bool gravity_kick, bool spin);
 
 /// Number of trailing zero bits of s > 0 (the coarsest level synchronised at substep s).
 inline int trailing_level(std::int64_t s) {

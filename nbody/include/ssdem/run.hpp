@@ -47,6 +47,13 @@ struct OutputPlan {
   std::string series_path, ckpt_path;
 };
 OutputPlan output_plan(const common::Scene& scene, const SimConfig& cfg, const std::string& dir);
+/// levels.csv (multi-rate runs): step, time, spheres per level 0..15 and coarser, promotions,
+/// sphere evaluations so far; one row per series row.
+common::SeriesFormat levels_format();
+void levels_row(common::SeriesRow& r, std::int64_t step, double time, const LevelStats& ls);
+/// The run's level use for the log and run_info.txt (one line): sphere-time share per level,
+/// final histogram, promotions, evaluations against single rate.
+std::string levels_report(const LevelStats& ls, std::int64_t steps, std::size_t spheres);
 }  // namespace detail
 
 }  // namespace ssdem

@@ -52,6 +52,7 @@
 #include "ssdem/bonds.hpp"
 #include "ssdem/contacts.hpp"
 #include "ssdem/gravity.hpp"
+#include "ssdem/level_rules.hpp"
 #include "ssdem/multirate.hpp"
 #include "ssdem/spheres.hpp"
 
@@ -130,6 +131,12 @@ struct PhaseTimes {
   std::int64_t neighbour_builds = 0;  ///< pair-list rebuilds (in `neighbours`; not the one at a restart)
 };
 
+/// a = g_uniform + F/m and, with contacts, alpha = T/I for the spheres idx[0..count) (0..count if
+/// idx is null); the per-sphere step of every integrator (Simulation, mpi::DomainSim).
+void accelerations(const Spheres& sp, const std::vector<Vec3>& F, const std::vector<Vec3>& T, const Vec3& g,
+                   bool contacts, const std::uint32_t* idx, std::size_t count, std::vector<Vec3>& a,
+                   std::vector<Vec3>& alpha);
+
 class Simulation {
  public:
   /// Fresh start: validates dt against the contact time, computes the initial forces.
@@ -149,7 +156,7 @@ class Simulation {
   const CadenceStats& cadence_stats() const { return cadence_; }
   /// Multi-rate levels (empty arrays in single-rate runs).
   const LevelStats& level_stats() const { return lstats_; }
-  const std::vector<std::uint8_t>& levels() const { return level_; }
+  const std::vector<std::uint8_t>& levels() const { return lr_.level; }
   /// Multi-rate level l_b of each bond (empty without bonds or in single-rate runs).
   const std::vector<std::uint8_t>& bond_levels() const { return blevel_; }
   void run(std::int64_t nsteps) {
@@ -193,40 +200,24 @@ class Simulation {
   // multi-rate (multirate.cpp)
   void setup_multirate(const SimState* st);
   void step_multirate();
-  void assign_levels(int tz, int L);
-  void equalise_levels(int tz);
-  bool lower_level(std::uint32_t i, int target, int tz, std::vector<std::uint32_t>& work);
-  bool near_pair(std::uint32_t i, std::uint32_t j) const;
-  int pair_level(std::uint32_t i, std::uint32_t j) const;
-  void update_pair_levels();  ///< plev_ for the current pair list (only when the list changed)
-  int wall_level(std::uint32_t i) const;  ///< level of i's nearest-wall constraint (255: none near)
   void multirate_forces();
   // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
+  struct BondLevelTerms;
   void setup_bond_levels();
   void bond_index();
-  int bond_cap(std::uint32_t i, int c) const;
-  int bond_bound(std::uint32_t i, int t) const;
-  void enforce_bonds(std::uint32_t i, int tz);
+  std::unique_ptr<LevelRules::BondTerms> bterms_;
   std::vector<std::uint8_t> blevel_;        ///< level l_b of each bond
   std::vector<std::uint32_t> brow_, badj_, bfill_;  ///< CSR: the intact bonds of each sphere (ascending)
   std::size_t bond_breaks_seen_ = 0;               ///< BondSystem::breaks() when the CSR was built
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
-  std::vector<std::uint8_t> level_, sync_, promoted_, lnew_;
-  std::vector<std::uint8_t> plev_;  ///< l_c of each listed pair (masses and radii are constant)
-  std::uint64_t plev_version_ = UINT64_MAX;  ///< ContactSystem::list_version() plev_ was made at
+  LevelRules lr_;  ///< levels, synchronisation and the level rules (level_rules.hpp)
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
-  std::vector<std::uint32_t> active_, work_, seeds_;
-  std::vector<std::uint8_t> lflag_;            ///< level changed since the last equalisation
-  std::vector<std::uint32_t> unsettled_, cand_, fresh_;  ///< pairs not on one level <= their l_c (ascending)
-  std::uint64_t unsettled_version_ = 0;
-  bool unsettled_valid_ = false;
+  std::vector<std::uint32_t> active_;
   std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
   ContactSystem::Subset subset_;
-  PairClock clock_;
   LevelStats lstats_;
-  double near_gap_ = 0.0;
 
   SimConfig cfg_;
   Spheres sp_;

@@ -37,6 +37,21 @@ void DomainSim::pack_owned(std::size_t i, std::vector<char>& b) const {
   put(b, gidx_[i]);
   put_sphere(sp_, i, b);
   for (const auto* v : {&a_, &alpha_, &ag_, &a_prev_, &alpha_prev_}) put(b, (*v)[i]);
+  if (cfg_.multirate) {
+    put(b, lr_.level[i]);
+    put(b, topen_[i]);
+    put(b, hopen_[i]);
+    put(b, tau_prev_[i]);
+  }
+}
+
+// The multi-rate fields of pack_owned, appended to `own`.
+void DomainSim::unpack_multirate(const std::vector<char>& b, std::size_t& off, Owned& own) const {
+  if (!cfg_.multirate) return;
+  own.level.push_back(get<std::uint8_t>(b, off));
+  own.topen.push_back(get<std::int64_t>(b, off));
+  own.hopen.push_back(get<double>(b, off));
+  own.tau_prev.push_back(get<double>(b, off));
 }
 
 void DomainSim::distribute(const SimState& all) {
@@ -52,6 +67,12 @@ void DomainSim::distribute(const SimState& all) {
     own.ag.push_back(all.ag.size() == n ? all.ag[i] : Vec3::Zero());
     own.a_prev.push_back(all.a_prev.size() == n ? all.a_prev[i] : Vec3::Zero());
     own.alpha_prev.push_back(all.alpha_prev.size() == n ? all.alpha_prev[i] : Vec3::Zero());
+    if (cfg_.multirate) {  // a state is taken at a block boundary: every sphere opens at its first step
+      own.level.push_back(all.level.size() == n ? all.level[i] : 0);
+      own.topen.push_back(all.step);
+      own.hopen.push_back(0.0);
+      own.tau_prev.push_back(all.tau_prev.size() == n ? all.tau_prev[i] : 0.0);
+    }
   }
   own.sp.resize(own.g.size());
   std::vector<char> b;
@@ -105,6 +126,7 @@ void DomainSim::exchange() {
       own.g.push_back(get<std::uint64_t>(b, off));
       append_sphere(b, off, own.sp);
       for (auto* v : {&own.a, &own.alpha, &own.ag, &own.a_prev, &own.alpha_prev}) v->push_back(get<Vec3>(b, off));
+      unpack_multirate(b, off, own);
     }
   // history: the owner's record goes to the new owners of both members
   for (auto& b : out) b.clear();
@@ -139,6 +161,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
     box = {1.0, lo.x(), lo.y(), lo.z(), hi.x(), hi.y(), hi.z()};
   }
   const std::vector<double> boxes = comm_.gather(box);
+  boxes_ = boxes;
   // ghosts: own spheres within the reach of another rank's box
   std::vector<std::vector<char>> out(comm_.size);
   std::vector<std::vector<std::uint64_t>> sendg(comm_.size);
@@ -150,6 +173,10 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
         if (box_distance(own.sp.x[k], Vec3(bx[1], bx[2], bx[3]), Vec3(bx[4], bx[5], bx[6])) >= reach_) continue;
         put(out[r], own.g[k]);
         put_sphere(own.sp, k, out[r]);
+        if (cfg_.multirate) {
+          put(out[r], own.level[k]);
+          put(out[r], own.topen[k]);
+        }
         sendg[r].push_back(own.g[k]);
       }
   const double b0 = comm_.bytes_sent;
@@ -158,11 +185,17 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
   Spheres gh;
   std::vector<std::uint64_t> ghg;
   std::vector<int> ghr;
+  std::vector<std::uint8_t> ghl;
+  std::vector<std::int64_t> gho;
   for (int r = 0; r < comm_.size; ++r)
     for (std::size_t off = 0; off < in[r].size();) {
       ghg.push_back(get<std::uint64_t>(in[r], off));
       ghr.push_back(r);
       append_sphere(in[r], off, gh);
+      if (cfg_.multirate) {
+        ghl.push_back(get<std::uint8_t>(in[r], off));
+        gho.push_back(get<std::int64_t>(in[r], off));
+      }
     }
   // the local set: own + ghosts in global-index order
   struct E {
@@ -183,6 +216,13 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
   for (auto* v : {&a_, &alpha_, &ag_, &a_prev_, &alpha_prev_, &vpred_, &wpred_, &F_, &T_})
     v->assign(nl, Vec3::Zero());
   ag_old_ = ag_;
+  const bool mr = cfg_.multirate;
+  if (mr) {
+    lr_.reset(nl);  // (the caches follow the new local set)
+    topen_.assign(nl, 0);
+    hopen_.assign(nl, 0.0);
+    tau_prev_.assign(nl, 0.0);
+  }
   std::vector<char> b;
   std::vector<std::uint32_t> ghost_slot(ghg.size());
   for (std::size_t s = 0; s < nl; ++s) {
@@ -200,8 +240,18 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
       ag_[s] = own.ag[k];
       a_prev_[s] = own.a_prev[k];
       alpha_prev_[s] = own.alpha_prev[k];
+      if (mr) {
+        lr_.level[s] = own.level[k];
+        topen_[s] = own.topen[k];
+        hopen_[s] = own.hopen[k];
+        tau_prev_[s] = own.tau_prev[k];
+      }
     } else {
       ghost_slot[e[s].k] = static_cast<std::uint32_t>(s);
+      if (mr) {
+        lr_.level[s] = ghl[e[s].k];
+        topen_[s] = gho[e[s].k];
+      }
     }
   }
   xex_ = sp_.x;
@@ -225,6 +275,12 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
   }
 }
 
+std::vector<std::vector<char>> DomainSim::halo(const std::vector<std::vector<char>>& out, std::size_t record) {
+  std::vector<std::size_t> expect(comm_.size);
+  for (int r = 0; r < comm_.size; ++r) expect[r] = recv_[r].size() * record;
+  return comm_.neighbours(out, expect);
+}
+
 void DomainSim::halo_update() {
   if (reach_ < 0.0) return;
   const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
@@ -232,7 +288,7 @@ void DomainSim::halo_update() {
   for (int r = 0; r < comm_.size; ++r)
     for (std::uint32_t i : send_[r])
       for (const Vec3* v : {&sp_.x[i], &sp_.v[i], &sp_.w[i], &vpred_[i], &wpred_[i]}) put(out[r], *v);
-  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  const std::vector<std::vector<char>> in = halo(out, 5 * sizeof(Vec3));
   for (int r = 0; r < comm_.size; ++r) {
     std::size_t off = 0;
     for (std::uint32_t i : recv_[r])
@@ -256,35 +312,68 @@ int DomainSim::owner_of_id(std::uint64_t id) const {
   return r;
 }
 
-SimState DomainSim::gather_state() const {
-  std::vector<char> b, hb;
-  for (std::uint32_t i : own_) pack_owned(i, b);
-  for (const HistoryRecord& r : owned_history()) put(hb, r);
+DomainSim::Packed DomainSim::pack_local() const {
+  Packed p;
+  for (std::uint32_t i : own_) pack_owned(i, p.spheres);
+  for (const HistoryRecord& r : owned_history()) put(p.history, r);
+  p.step = step_;
+  p.time = time_;
+  p.grav_step = grav_step_;
+  p.block = block_;
+  p.has_prev = has_prev_;
+  return p;
+}
+
+SimState DomainSim::gather_state() const { return assemble(pack_local()); }
+
+void DomainSim::set_keep_last_good(std::int64_t every) {
+  keep_every_ = every;
+  if (every > 0 && !last_good_) last_good_ = pack_local();
+}
+
+std::optional<SimState> DomainSim::gather_last_good() const {
+  if (!last_good_) return std::nullopt;
+  return assemble(*last_good_);
+}
+
+SimState DomainSim::assemble(const Packed& mine) const {
   const double b0 = comm_.bytes_sent;
-  const std::vector<char> all = comm_.gather(b, 0), hall = comm_.gather(hb, 0);
+  const std::vector<char> all = comm_.gather(mine.spheres, 0), hall = comm_.gather(mine.history, 0);
   stats_.bytes_other += comm_.bytes_sent - b0;
   SimState st;
   if (comm_.rank != 0) return st;
   const std::size_t n = gsp_.size();
   st.sp.resize(n);
   std::vector<Vec3> a(n), alpha(n), ag(n), ap(n), alp(n);
+  Owned mr;  // multi-rate fields in arrival order
+  std::vector<std::uint64_t> gs;
   for (std::size_t off = 0; off < all.size();) {
     const auto g = get<std::uint64_t>(all, off);
     get_sphere(all, off, st.sp, g);
     for (auto* v : {&a, &alpha, &ag, &ap, &alp}) (*v)[g] = get<Vec3>(all, off);
+    unpack_multirate(all, off, mr);
+    gs.push_back(g);
+  }
+  if (cfg_.multirate) {
+    st.level.resize(n);
+    st.tau_prev.resize(n);
+    for (std::size_t k = 0; k < gs.size(); ++k) {
+      st.level[gs[k]] = mr.level[k];
+      st.tau_prev[gs[k]] = mr.tau_prev[k];
+    }
   }
   st.sp.carried = carried_;
   st.a = std::move(a);
   st.alpha = std::move(alpha);
   if (cfg_.self_gravity) st.ag = std::move(ag);
-  if (has_prev_) {
+  if (mine.has_prev) {
     st.a_prev = std::move(ap);
     st.alpha_prev = std::move(alp);
   }
-  st.step = step_;
-  st.time = time_;
-  st.gravity_step = grav_step_;
-  st.gravity_block = block_;
+  st.step = mine.step;
+  st.time = mine.time;
+  st.gravity_step = mine.grav_step;
+  st.gravity_block = mine.block;
   // history in the one-rank order: pairs by (index a, index b), then walls by (index, wall)
   std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;
   for (std::size_t g = 0; g < n; ++g) g_of_id[st.sp.id[g]] = g;

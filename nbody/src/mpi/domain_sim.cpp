@@ -31,11 +31,9 @@ void DomainSim::setup(const Spheres& all) {
   if (!cfg_.bonds.empty() && comm_.size > 1)
     throw common::InputError("bonds (bonds.*) are not distributed over MPI ranks yet: run a scene with bonds "
                              "on one rank (mpirun -np 1) or with the serial ssdem-grav");
-  if (cfg_.multirate && comm_.size > 1)
-    throw common::InputError("time.multirate = true is not distributed over MPI ranks yet: run it on one rank "
-                             "(mpirun -np 1) or with the serial ssdem-grav, or set time.multirate = false");
   double smax = 0;
   for (double s : all.s) smax = std::max(smax, s);
+  smax_ = smax;
   if (cfg_.contacts) {
     check_dt(cfg_.contact, all, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
     skin_ = cfg_.skin > 0.0 ? cfg_.skin : 0.25 * smax;  // as Simulation::setup
@@ -45,6 +43,7 @@ void DomainSim::setup(const Spheres& all) {
     reach_ = -1.0;  // no ghosts
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);
+  setup_multirate();
   // replicated arrays for gravity (positions refreshed at each evaluation)
   gsp_.id = all.id;
   gsp_.x = all.x;
@@ -157,20 +156,14 @@ void DomainSim::compute_forces(bool initial) {
     times_.contacts += omp_get_wtime() - t1;
   }
   if (cfg_.self_gravity && initial) compute_gravity();
-  const Vec3 g = cfg_.uniform_g;
-#pragma omp parallel for schedule(static) if (no >= kOmpMin)
-  for (std::size_t k = 0; k < no; ++k) {
-    const std::uint32_t i = own_[k];
-    Vec3 a = g;
-    if (contacts_) {
-      a += F_[i] / sp_.m[i];
-      alpha_[i] = T_[i] / sp_.inertia(i);
-    }
-    a_[i] = a;
-  }
+  accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, own_.data(), no, a_, alpha_);
 }
 
 void DomainSim::step() {
+  if (cfg_.multirate) {
+    step_multirate();
+    return;
+  }
   const double h = cfg_.dt, hh = 0.5 * h;
   const bool spin = contacts_ != nullptr;
   const bool sg = cfg_.self_gravity;
@@ -178,16 +171,14 @@ void DomainSim::step() {
   const double hk = 0.5 * h * k;
   const bool open_kick = sg && step_ == block_start_;
   double t0 = omp_get_wtime();
-  double moved2 = 0;
   const std::size_t no = own_.size();
-#pragma omp parallel for schedule(static) reduction(max : moved2) if (no >= kOmpMin)
+#pragma omp parallel for schedule(static) if (no >= kOmpMin)
   for (std::size_t q = 0; q < no; ++q) {
     const std::uint32_t i = own_[q];
     if (open_kick) sp_.v[i] += hk * ag_[i];
     sp_.v[i] += hh * a_[i];
     if (spin) sp_.w[i] += hh * alpha_[i];
     sp_.x[i] += h * sp_.v[i];
-    moved2 = std::max(moved2, (sp_.x[i] - xex_[i]).squaredNorm());
   }
   ++step_;
   time_ = static_cast<double>(step_) * h;
@@ -196,7 +187,7 @@ void DomainSim::step() {
   // exchange: with contacts when a sphere moved more than skin/2 (domain_sim.hpp); without, at
   // gravity evaluations (ownership then only balances the work)
   const double c0 = omp_get_wtime();
-  const bool ex = contacts_ ? comm_.max(moved2) > 0.25 * skin_ * skin_ : close_kick;
+  const bool ex = contacts_ ? need_exchange() : close_kick;
   stats_.wall_comm += omp_get_wtime() - c0;
   if (ex) exchange();
   compute_forces(false);
@@ -251,6 +242,7 @@ void DomainSim::close_gravity_block() {
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));
   block_ = std::max(next, 1);
+  if (cfg_.multirate) block_ = floor_pow2(block_);  // levels need power-of-two blocks
 }
 
 void DomainSim::check_state() {
@@ -278,11 +270,15 @@ void DomainSim::check_state() {
        << cfg_.max_overlap_frac << ") at step " << step_ << ": k_n too soft or dt too large for this impact speed";
     throw common::NumericalError(os.str());
   }
+  // a verified state (the same steps on every rank: the decision is collective above)
+  if (keep_every_ > 0 && at_gravity_boundary() && (!last_good_ || step_ >= last_good_->step + keep_every_))
+    last_good_ = pack_local();
 }
 
 double DomainSim::bytes_per_owned_sphere() const {
   const double nl = static_cast<double>(sp_.size());
   double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
+  if (cfg_.multirate) b += nl * (4 + 8 + 3 * 8 + 4);  // levels/flags, opening step, h_open, tau_prev, tau, active
   if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
   const double ng = static_cast<double>(gsp_.size());
   b += ng * (Spheres::bytes_per_sphere() + 1 + 24);  // replicated gravity arrays, mask, accelerations

@@ -97,6 +97,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     on_root(comm, [&] {
       if (!common::RunDirectory::staging_of(out_dir, restart).empty()) return;
       rd->carry("series.csv");  // continuing a published run: its series and snapshots up to the checkpoint
+      if (std::filesystem::exists(std::filesystem::path(out_dir) / "levels.csv")) rd->carry("levels.csv");
       for (const auto& e : std::filesystem::directory_iterator(out_dir)) {
         const std::string n = e.path().filename().string();
         const std::int64_t s = detail::snap_step(n);
@@ -113,6 +114,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
   }
   const SimConfig& cfg = sim->config();
+  const std::int64_t first_step = sim->step_count();
   std::ostringstream ri;
   ri << info << "spheres: " << sim->global_count() << "\nMPI ranks: " << comm.size << "\ndt = " << cfg.dt
      << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
@@ -126,11 +128,20 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   const auto [t_end, snap_dt, ckpt_wall, series_every, ckpt_every, n_end, times, series_path, ckpt_path] =
       detail::output_plan(sc, cfg, dir);
   sim->set_end_step(n_end);
+  // a verified state every ~100 steps for the save after a numerical failure (as run.cpp)
+  sim->set_keep_last_good(std::max<std::int64_t>(cfg.gravity_every, 100 / cfg.gravity_every * cfg.gravity_every));
 
   std::unique_ptr<common::SeriesFile> series;
   on_root(comm, [&] {
     series = std::make_unique<common::SeriesFile>(series_path, detail::series_format(),
                                                   restart.empty() ? std::nullopt : std::optional(sim->step_count()));
+  });
+  std::unique_ptr<common::SeriesFile> levels;  // levels.csv of multi-rate runs, as the serial driver's
+  on_root(comm, [&] {
+    if (cfg.multirate)
+      levels = std::make_unique<common::SeriesFile>((std::filesystem::path(dir) / "levels.csv").string(),
+                                                    detail::levels_format(),
+                                                    restart.empty() ? std::nullopt : std::optional(sim->step_count()));
   });
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   double E0 = energy0, last_rel = 0.0;
@@ -138,7 +149,13 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   auto output = [&](bool row, bool snap) {
     if (!row && !snap) return;
     const SimState st = sim->gather_state();
+    const LevelStats ls = row ? sim->gather_level_stats() : LevelStats{};
     on_root(comm, [&] {
+      if (row && levels) {
+        common::SeriesRow lr = levels->row();
+        detail::levels_row(lr, st.step, st.time, ls);
+        levels->write(lr);
+      }
       if (row) {
         Diagnostics d = Simulation(st, cfg).diagnostics();
         count_contacts(st, cfg.walls, d);
@@ -192,7 +209,10 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, comm.c);
       if (flags[0] != 0) {
         checkpoint(ckpt_path);
-        on_root(comm, [&] { series->commit(); });
+        on_root(comm, [&] {
+          series->commit();
+          if (levels) levels->commit();
+        });
         spdlog::warn("interrupted by signal {} at step {}; restart with --restart {}", flags[0], s, ckpt_path);
         return 128 + flags[0];
       }
@@ -203,13 +223,21 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       }
     }
   } catch (common::NumericalError& e) {
-    // check_state is collective: every rank is here at the same step
+    // check_state is collective: every rank is here at the same step. As the serial driver: the
+    // last verified state as a checkpoint (restartable), else the failing state as a snapshot.
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
-    const SimState st = sim->gather_state();
+    const std::optional<SimState> good = sim->gather_last_good();
+    const SimState st = good ? SimState{} : sim->gather_state();
     on_root(comm, [&] {
-      write_snapshot(failed, st.sp, st.time, st.step, prov);
-      spdlog::error("{}; failing state saved to {}", e.what(), failed);
+      if (good) {
+        write_checkpoint(failed, *good, cfg.dt, good->gravity_block, prov, cfg.contact.kn, ident.text());
+        spdlog::error("{}; last good state (step {}) saved to {}", e.what(), good->step, failed);
+      } else {
+        write_snapshot(failed, st.sp, st.time, st.step, prov);
+        spdlog::error("{}; failing state saved to {}", e.what(), failed);
+      }
       series->commit();
+      if (levels) levels->commit();
     });
     e.set_saved_state(failed);
     throw;
@@ -224,7 +252,13 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
      << " B, exchanges " << ds.bytes_exchange / std::max<double>(ds.steps, 1) << " B, gravity "
      << ds.bytes_gravity / std::max<double>(ds.steps, 1) << " B; communication " << ds.wall_comm
      << " s; bytes per own sphere " << sim->bytes_per_owned_sphere();
+  if (cfg.multirate)
+    os << "; multi-rate equalisation rounds " << ds.level_rounds << " in " << ds.steps << " base steps";
+  os << "; steps with a mover check " << ds.mover_checks;
   std::string lines;
+  const LevelStats ls = sim->gather_level_stats();
+  if (cfg.multirate)
+    lines += detail::levels_report(ls, sim->step_count() - first_step, sim->global_count()) + "\n";
   {
     std::vector<int> counts;
     const std::string s = os.str();
@@ -237,6 +271,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   }
   on_root(comm, [&] {
     series->commit();
+    if (levels) levels->commit();
     common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + lines);
     rd->publish();
     spdlog::info("MPI decomposition:\n{}", lines);

@@ -2,7 +2,8 @@
 # The MPI ssdem-grav end to end (label mpi): files written on NP ranks equal those of one rank
 # (every dataset of every snapshot and of the checkpoint; series.csv except wall time), a
 # checkpoint written on NP ranks restarts on NP2 ranks and reaches the one-rank end state bit for
-# bit, and a scene with bonds is refused on more than one rank (exit 2).
+# bit, and a scene with bonds is refused on more than one rank (exit 2). APP_MPI_SETS adds scene
+# settings to every run (e.g. "--set time.multirate=true": then levels.csv must equal one rank's).
 # Usage: app_mpi.sh <ssdem-grav> <scene> <NP> <NP2> <mpirun...>
 set -euo pipefail
 exe=$1 scene=$2 np=$3 np2=$4
@@ -10,7 +11,8 @@ shift 4
 run=("$@")
 w=$(mktemp -d "${TMPDIR:-/tmp}/app_mpi.XXXXXX")
 trap 'rm -rf "$w"' EXIT
-common=(--scene "$scene" --quiet --set output.snapshot_interval=50.0)
+read -r -a extra <<<"${APP_MPI_SETS:-}"
+common=(--scene "$scene" --quiet --set output.snapshot_interval=50.0 "${extra[@]}")
 fail() { echo "FAIL: $*" >&2; exit 1; }
 # same files as one rank (h5diff: provenance holds the command line and output directory)
 "${run[@]}" -np 1 "$exe" "${common[@]}" --set time.end=100.0 --set "output.directory=\"$w/one\""
@@ -23,7 +25,11 @@ done
 [ "$n" -ge 3 ] || fail "expected snapshots and a checkpoint, found $n files"
 cmp <(cut -d, -f1-19 "$w/one/series.csv") <(cut -d, -f1-19 "$w/many/series.csv") || fail "series.csv differs on $np ranks"
 grep -q "MPI ranks: $np" "$w/many/run_info.txt" || fail "run_info.txt lacks the rank count"
-echo "$np ranks: $n HDF5 files and series.csv equal to one rank"
+if [ -f "$w/one/levels.csv" ]; then  # multi-rate: spheres per level, promotions, evaluations
+  cmp "$w/one/levels.csv" "$w/many/levels.csv" || fail "levels.csv differs on $np ranks"
+  grep -q "multi-rate levels" "$w/many/run_info.txt" || fail "run_info.txt lacks the level report"
+fi
+echo "$np ranks: $n HDF5 files and series.csv equal to one rank${APP_MPI_SETS:+ ($APP_MPI_SETS)}"
 # checkpoint on NP ranks at t = 50 s, restart on NP2 ranks to 100 s: equal to the one-rank run
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set time.end=50.0 --set "output.directory=\"$w/first\""
 "${run[@]}" -np "$np2" "$exe" "${common[@]}" --set time.end=100.0 --set "output.directory=\"$w/first\"" \

@@ -2,7 +2,8 @@
 /// Thin helpers over MPI shared by the domain decompositions of ssdem-grav (nbody/src/mpi) and
 /// mpm-frag (mpm/src/mpi); MPI build only (SUITE_MPI=ON, target common_mpi: the serial build
 /// neither sees nor links it). Every exchange moves bytes of trivially copyable records:
-/// alltoallv, gather / allgather, exact reductions (max, integer sum), and put / get of plain
+/// alltoallv, point-to-point halos of known sizes (neighbours), gather / allgather, exact
+/// reductions (max, integer sum), and put / get of plain
 /// values into byte buffers. The helpers count the bytes this rank sends (communication volume).
 /// Determinism: results are placed by sender rank, in the sender's order, never by arrival order.
 #pragma once
@@ -44,6 +45,30 @@ struct Comm {
     return split(rb, rc, rd);
   }
 
+  /// Byte buffers per destination rank -> byte buffers per source rank, where each receiver knows
+  /// how many bytes each sender sends (recv_bytes[r]; a halo with fixed send and receive lists):
+  /// point-to-point messages to and from those ranks only (no collective; O(neighbours) per rank).
+  std::vector<std::vector<char>> neighbours(const std::vector<std::vector<char>>& send,
+                                            const std::vector<std::size_t>& recv_bytes) {
+    std::vector<std::vector<char>> recv(size);
+    std::vector<MPI_Request> req;
+    req.reserve(2 * static_cast<std::size_t>(size));
+    for (int r = 0; r < size; ++r)
+      if (r != rank && recv_bytes[r] > 0) {
+        recv[r].resize(recv_bytes[r]);
+        req.emplace_back();
+        MPI_Irecv(recv[r].data(), static_cast<int>(recv_bytes[r]), MPI_BYTE, r, kHaloTag, c, &req.back());
+      }
+    for (int r = 0; r < size; ++r)
+      if (r != rank && !send[r].empty()) {
+        bytes_sent += static_cast<double>(send[r].size());
+        req.emplace_back();
+        MPI_Isend(send[r].data(), static_cast<int>(send[r].size()), MPI_BYTE, r, kHaloTag, c, &req.back());
+      }
+    MPI_Waitall(static_cast<int>(req.size()), req.data(), MPI_STATUSES_IGNORE);
+    return recv;
+  }
+
   /// Every rank's vector, concatenated in rank order, on every rank (root < 0) or on `root`
   /// (empty elsewhere); `counts`: the elements from each rank.
   template <class T>
@@ -82,6 +107,7 @@ struct Comm {
   void sum(long long* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_LONG_LONG, MPI_SUM, c); }
 
  private:
+  static constexpr int kHaloTag = 7101;  ///< tag of neighbours() (collectives use no tags)
   /// Displacements rd of the counts rc; returns the total.
   static std::size_t offsets(const std::vector<int>& rc, std::vector<int>& rd) {
     std::size_t tot = 0;

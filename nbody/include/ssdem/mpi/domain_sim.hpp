@@ -10,12 +10,18 @@
 /// summation order, so results do not depend on where a sphere lives.
 /// Ghosts and exchanges (LAMMPS-style halo with a skin). At an exchange each rank takes the spheres
 /// of the other ranks within R = 2 s_max + k of the bounding box of its own spheres as ghosts
-/// (k = the contact skin). An exchange is done when some sphere moved more than k/2 since the last
-/// one (one allreduce per step): until then every sphere that can touch an owned one in the
-/// contact step is a ghost, as |x_i - x_j| < s_i + s_j at a contact implies
-/// |x_i(ex) - x_j(ex)| < 2 s_max + k. Between exchanges the ghosts' x, v, w and predicted v, w
-/// are sent every step (15 doubles per ghost). At an exchange spheres migrate to the rank owning
-/// their position (any rank: debris crossing several domains in one step), then ghosts are rebuilt.
+/// (k = the contact skin). Spheres that moved less than t = k/2 (k/4 with multi-rate steps) since
+/// the exchange cannot form a contact (a near pair) with a sphere that is not a ghost; the few
+/// that moved farther ("movers": fast fragments) are sent to every rank each step and checked
+/// against its own spheres, and an exchange is done only when a near pair with a mover is not
+/// covered by the ghosts, or when movers are many (domain_movers.cpp, with the argument). Between
+/// exchanges the ghosts' x, v, w and predicted v, w are sent every step (15 doubles per ghost) in
+/// point-to-point messages to the ranks that share ghosts (Comm::neighbours). At an exchange
+/// spheres migrate to the rank owning their position (any rank: debris crossing several domains in
+/// one step), then ghosts are rebuilt.
+/// Numerical failure. Every rank keeps a packed copy of its own spheres and history at the
+/// verified block boundaries of set_keep_last_good; after a failure they are gathered into the
+/// one-rank state of that step (the serial driver's failed_state.h5).
 /// Contacts. The local set L = owned + ghosts, in global-index order, runs the serial contact
 /// system (contacts.hpp). Its per-sphere sums run over partners in ascending local index, which is
 /// ascending global index, so an owned sphere's force equals the one-rank force bit for bit.
@@ -34,9 +40,22 @@
 /// allgathered and added in rank order (deterministic for a given rank count; against one rank
 /// they differ by round-off, which can change the integer block length only when it is within
 /// ~1e-15 of an integer).
+/// Multi-rate steps (time.multirate, multirate.hpp). Levels, opening steps, h_open and the previous
+/// step length move with their sphere; a ghost carries its owner's level and opening step, so
+/// synchronisation (level <= tz) and each pair's step are known on every rank that holds the pair.
+/// Per base step: drift of the owned spheres, ghost positions (or an exchange; movers at k/4, so
+/// that a near pair, gap < k/2, is covered), the new levels of the owned synchronised spheres,
+/// their halo (ghost := owner's level), then the equalisation to the fixed point in rounds: a
+/// local equalisation; if it changed a sphere that is a ghost elsewhere (on any rank: one
+/// allreduce), a halo in which a ghost takes min(local, owner's) level (LevelRules::lower: a
+/// promotion is mirrored exactly) and another round. The rule is monotone and order
+/// free (level_rules.hpp), so this is the fixed point of one rank; levels, hence forces and
+/// trajectories, equal the one-rank run bit for bit. The owned active spheres predict and are
+/// sent (x, v, w, predicted v, w) before the contacts of all locally active spheres are computed.
 /// Bonds are not distributed yet: a scene with bonds on more than one rank is refused.
 #pragma once
 #include <memory>
+#include <optional>
 #include <unordered_map>
 
 #include "ssdem/mpi/comm.hpp"
@@ -48,6 +67,8 @@ namespace ssdem::mpi {
 /// Communication and decomposition counters of this rank.
 struct DomainStats {
   std::int64_t exchanges = 0, rebalances = 0, gravity_gathers = 0, steps = 0;
+  std::int64_t level_rounds = 0;  ///< multi-rate equalisation rounds (>= 1 per base step)
+  std::int64_t mover_checks = 0;  ///< base steps at which spheres past the exchange distance were checked
   double bytes_halo = 0, bytes_exchange = 0, bytes_gravity = 0, bytes_other = 0;  ///< sent [B]
   double wall_comm = 0;  ///< seconds in communication calls
 };
@@ -79,6 +100,15 @@ class DomainSim {
   /// Collective: the full state on rank 0, equal to Simulation::state() of a one-rank run (carried
   /// fields included; history in the one-rank order); an empty state on the other ranks.
   SimState gather_state() const;
+  /// Keep this rank's part of a verified state every `every` steps, at gravity-block boundaries
+  /// (0: off), for the save after a numerical failure (as Simulation::set_keep_last_good): a copy
+  /// of the rank's packed own spheres and history, no communication.
+  void set_keep_last_good(std::int64_t every);
+  /// Collective: the last kept state on rank 0, as gather_state() returned it then; nullopt where
+  /// none was kept (on every rank alike).
+  std::optional<SimState> gather_last_good() const;
+  /// Collective: the multi-rate level statistics of all ranks (rank 0; sums; empty in single rate).
+  LevelStats gather_level_stats() const;
   /// Bytes per sphere held by this rank (local set, contact system, replicated gravity arrays),
   /// divided by the spheres it owns.
   double bytes_per_owned_sphere() const;
@@ -89,23 +119,51 @@ class DomainSim {
     std::vector<std::uint64_t> g;
     Spheres sp;
     std::vector<Vec3> a, alpha, ag, a_prev, alpha_prev;
+    std::vector<std::uint8_t> level;  // multi-rate (empty in single rate)
+    std::vector<std::int64_t> topen;
+    std::vector<double> hopen, tau_prev;
   };
   void setup(const Spheres& all);
   void distribute(const SimState& all);
   void exchange();
   void rebuild_local(Owned own, const std::vector<HistoryRecord>& recs);
   void halo_update();
+  /// Halo messages (owned slots send_[r] -> ghost slots recv_[r]) of `record` bytes per sphere:
+  /// point-to-point with the ranks that share ghosts only (Comm::neighbours).
+  std::vector<std::vector<char>> halo(const std::vector<std::vector<char>>& out, std::size_t record);
   void compute_forces(bool initial);
   void compute_gravity();
   void close_gravity_block();
   void check_state();
+  // multi-rate (domain_multirate.cpp)
+  void setup_multirate();
+  void step_multirate();
+  void halo_positions();
+  bool halo_levels(bool assign, int tz);
+  void multirate_forces();
+  double exchange_distance() const { return (cfg_.multirate ? 0.25 : 0.5) * skin_; }
+  bool need_exchange();  ///< collective (domain_movers.cpp)
   std::vector<HistoryRecord> owned_history() const;
   void pack_owned(std::size_t i, std::vector<char>& b) const;
+  /// This rank's part of the state: packed own spheres and owned history, with the scalars.
+  struct Packed {
+    std::vector<char> spheres, history;
+    std::int64_t step = 0, grav_step = -1;
+    double time = 0.0;
+    int block = 1;
+    bool has_prev = false;
+  };
+  Packed pack_local() const;
+  SimState assemble(const Packed& mine) const;  ///< collective: the full state on rank 0
+  std::int64_t keep_every_ = 0;
+  std::optional<Packed> last_good_;
+  void unpack_multirate(const std::vector<char>& b, std::size_t& off, Owned& own) const;
 
   Comm& comm_;
   SimConfig cfg_;
   double imbalance_;
-  double reach_ = 0, skin_ = 0;
+  double reach_ = 0, skin_ = 0, smax_ = 0;
+  std::vector<double> boxes_;  // every rank's own-sphere box at the last exchange: (flag, lo, hi) x ranks
   OrbTree orb_;
   // local set L (owned + ghosts, global-index order)
   Spheres sp_;
@@ -124,6 +182,13 @@ class DomainSim {
   std::unique_ptr<ContactSystem> contacts_;
   std::unique_ptr<TreeGravity> tree_;
   ContactStats cstats_;
+  LevelRules lr_;  // multi-rate: levels of the local set (owned + ghosts)
+  std::vector<std::int64_t> topen_;
+  std::vector<double> hopen_, tau_prev_, tau_own_;
+  std::vector<std::uint32_t> active_, own_active_;
+  std::vector<std::size_t> subset_off_;
+  ContactSystem::Subset subset_;
+  LevelStats lstats_;
   std::int64_t step_ = 0, block_start_ = 0, end_step_ = 0, grav_step_ = -1;
   double time_ = 0.0;
   int block_ = 1;

@@ -1,0 +1,200 @@
+/// @file domain_multirate.cpp
+/// Multi-rate block time steps (time.multirate; scheme, rules and proofs in multirate.hpp) over the
+/// domain decomposition of domain_sim.hpp: the base substep of Simulation::step_multirate with
+/// the level rules of level_rules.hpp run on the local set (owned + ghosts) and the equalisation
+/// completed across ranks by halo rounds (domain_sim.hpp, "Multi-rate steps").
+#include <omp.h>
+
+#include <algorithm>
+
+#include "common/status.hpp"
+#include "ssdem/mpi/domain_sim.hpp"
+
+namespace ssdem::mpi {
+void DomainSim::setup_multirate() {
+  if (!cfg_.multirate) return;
+  if (!(cfg_.pair_steps_per_contact > 0.0)) throw common::InputError("time.steps_per_contact must be > 0");
+  cfg_.gravity_every = floor_pow2(std::max(cfg_.gravity_every, 1));
+  cfg_.gravity_max_every = floor_pow2(std::max(cfg_.gravity_max_every, 1));
+  lstats_.sphere_time.assign(kMaxLevel + 1, 0.0);
+  if (contacts_) {
+    contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
+    lr_.configure(PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel), 0.5 * skin_);
+  }
+}
+
+// Ghost positions after the drift (the level rules and the pair list need them).
+void DomainSim::halo_positions() {
+  if (reach_ < 0.0) return;
+  const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  std::vector<std::vector<char>> out(comm_.size);
+  for (int r = 0; r < comm_.size; ++r)
+    for (std::uint32_t i : send_[r]) put(out[r], sp_.x[i]);
+  const std::vector<std::vector<char>> in = halo(out, sizeof(Vec3));
+  for (int r = 0; r < comm_.size; ++r) {
+    std::size_t off = 0;
+    for (std::uint32_t i : recv_[r]) sp_.x[i] = get<Vec3>(in[r], off);
+  }
+  stats_.bytes_halo += comm_.bytes_sent - b0;
+  stats_.wall_comm += omp_get_wtime() - t0;
+}
+
+// Owners' levels to their ghosts. assign: the ghost takes the owner's level (after the new levels
+// of the synchronised spheres); else the ghost is lowered to it where it is lower (an
+// equalisation round: LevelRules::lower mirrors the owner's promotion). Returns whether any
+// ghost of this rank changed.
+bool DomainSim::halo_levels(bool assign, int tz) {
+  if (reach_ < 0.0 || comm_.size == 1) return false;
+  const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  std::vector<std::vector<char>> out(comm_.size);
+  for (int r = 0; r < comm_.size; ++r)
+    for (std::uint32_t i : send_[r]) put(out[r], lr_.level[i]);
+  const std::vector<std::vector<char>> in = halo(out, sizeof(std::uint8_t));
+  bool changed = false;
+  for (int r = 0; r < comm_.size; ++r) {
+    std::size_t off = 0;
+    for (std::uint32_t i : recv_[r]) {
+      const auto l = get<std::uint8_t>(in[r], off);
+      if (assign) {
+        if (lr_.level[i] != l) {
+          lr_.level[i] = l;
+          lr_.lflag[i] = 1;
+        }
+      } else if (lr_.lower(i, l, tz)) {
+        changed = true;
+      }
+    }
+  }
+  stats_.bytes_halo += comm_.bytes_sent - b0;
+  stats_.wall_comm += omp_get_wtime() - t0;
+  return changed;
+}
+
+void DomainSim::multirate_forces() {
+  const double h = cfg_.dt;
+  const std::size_t no = own_active_.size(), na = active_.size();
+  tau_own_.resize(no);
+  predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_,
+                              lr_.promoted},
+                 own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data());
+  count_active(lstats_, own_active_.data(), no, step_, topen_, tau_own_.data());
+  if (cfg_.extrapolated_predictor) has_prev_ = true;
+  if (contacts_) {
+    halo_update();  // x, v (after a promotion's kick correction), w and the predicted v, w
+    const double t0 = omp_get_wtime();
+    subset_.spheres = active_;
+    subset_.hsphere.resize(na);
+    for (std::size_t r = 0; r < na; ++r) subset_.hsphere[r] = static_cast<double>(step_ - topen_[active_[r]]) * h;
+    multirate_subset(*contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
+    cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
+    times_.contacts += omp_get_wtime() - t0;
+  }
+  accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, own_active_.data(), no, a_, alpha_);
+}
+
+void DomainSim::step_multirate() {
+  const bool spin = contacts_ != nullptr;
+  const bool sg = cfg_.self_gravity;
+  const Substep ss(cfg_.dt, block_, step_, block_start_);
+  double t0 = omp_get_wtime();
+  if (ss.opens) lr_.cap(ss.L);  // (ghosts too: the same rule on the same level)
+  const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
+  open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin);
+  ++step_;
+  time_ = static_cast<double>(step_) * ss.h;
+  times_.integrate += omp_get_wtime() - t0;
+  const double c0 = omp_get_wtime();
+  const bool ex = contacts_ ? need_exchange() : ss.closes;
+  stats_.wall_comm += omp_get_wtime() - c0;
+  if (ex)
+    exchange();
+  else
+    halo_positions();
+  const int tz = ss.tz;
+  if (contacts_) {
+    t0 = omp_get_wtime();
+    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
+    times_.neighbours += omp_get_wtime() - t0;
+  }
+  t0 = omp_get_wtime();
+  const std::size_t n2 = sp_.size();  // the exchange may have changed the local set
+  lr_.begin(tz);
+  if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
+  lr_.assign(sp_, contacts_.get(), tz, ss.L, nullptr, mine_.data());
+  if (contacts_) {
+    halo_levels(true, tz);
+    // rounds to the fixed point: a local equalisation; if it changed the level of a sphere that
+    // is a ghost elsewhere (on any rank), the owners' levels go to their ghosts (min) and another
+    // round follows; else every rank holds its ghosts' levels and is at its local fixed point
+    std::vector<std::uint8_t> before;
+    for (;;) {
+      before.clear();
+      for (const auto& sr : send_)
+        for (std::uint32_t i : sr) before.push_back(lr_.level[i]);
+      lr_.equalise(sp_, *contacts_, tz, nullptr);
+      ++stats_.level_rounds;
+      bool changed = false;
+      std::size_t k = 0;
+      for (const auto& sr : send_)
+        for (std::uint32_t i : sr) changed = changed || lr_.level[i] != before[k++];
+      const double c1 = omp_get_wtime();
+      const bool any = comm_.size > 1 && comm_.max(changed ? 1.0 : 0.0) > 0.0;
+      stats_.wall_comm += omp_get_wtime() - c1;
+      if (!any) break;
+      halo_levels(false, tz);
+    }
+  }
+  active_.clear();
+  own_active_.clear();
+  for (std::size_t i = 0; i < n2; ++i)
+    if (lr_.sync[i]) {
+      active_.push_back(static_cast<std::uint32_t>(i));
+      if (mine_[i]) {
+        own_active_.push_back(static_cast<std::uint32_t>(i));
+        lstats_.promotions += lr_.promoted[i];
+      }
+    }
+  const double tl = omp_get_wtime() - t0;
+  times_.levels += tl;
+  times_.integrate += tl;
+  multirate_forces();
+  if (sg && ss.closes) {
+    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    compute_gravity();
+  }
+  t0 = omp_get_wtime();
+  close_kicks(kicks, own_active_.data(), own_active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin);
+  times_.integrate += omp_get_wtime() - t0;
+  if (ss.closes) close_gravity_block();
+  ++times_.steps;
+  ++stats_.steps;
+  check_state();
+}
+
+LevelStats DomainSim::gather_level_stats() const {
+  LevelStats out;
+  if (!cfg_.multirate) return out;
+  // spheres per level now (owned), sphere-time per level, promotions, evaluations (the counts are
+  // exact in doubles below 2^53)
+  std::vector<double> mine(lstats_.sphere_time.size(), 0.0);
+  for (std::uint32_t i : own_) mine[std::min<int>(lr_.level[i], kMaxLevel)] += 1.0;
+  mine.insert(mine.end(), lstats_.sphere_time.begin(), lstats_.sphere_time.end());
+  mine.push_back(static_cast<double>(lstats_.promotions));
+  mine.push_back(static_cast<double>(lstats_.evaluations));
+  const std::vector<double> all = comm_.gather(mine, 0);
+  if (comm_.rank != 0) return out;
+  const std::size_t L = lstats_.sphere_time.size(), m = mine.size();
+  out.now.assign(L, 0);
+  out.sphere_time.assign(L, 0.0);
+  for (std::size_t off = 0; off + m <= all.size(); off += m) {
+    for (std::size_t l = 0; l < L; ++l) {
+      out.now[l] += static_cast<std::int64_t>(all[off + l]);
+      out.sphere_time[l] += all[off + L + l];
+    }
+    out.promotions += static_cast<std::int64_t>(all[off + 2 * L]);
+    out.evaluations += static_cast<std::int64_t>(all[off + 2 * L + 1]);
+  }
+  return out;
+}
+
+}  // namespace ssdem::mpi
