@@ -94,6 +94,22 @@ void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) con
       }
 }
 
+void ContactSystem::near_point(const Vec3& x, std::vector<std::uint32_t>& out) const {
+  const std::uint64_t k = cell_of(x);
+  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
+  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
+  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
+  for (std::int64_t dx = -1; dx <= 1; ++dx)
+    for (std::int64_t dy = -1; dy <= 1; ++dy)
+      for (std::int64_t dz = -1; dz <= 1; ++dz) {
+        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+        const auto it = head_.find(cell_key(X, Y, Z));
+        if (it == head_.end()) continue;
+        for (std::uint32_t j = it->second; j != kNone; j = next_[j]) out.push_back(j);
+      }
+}
+
 bool ContactSystem::listed(std::size_t a, std::size_t b) const {
   if (a > b) std::swap(a, b);
   if (a + 1 >= irow_.size()) return false;

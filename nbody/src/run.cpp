@@ -425,6 +425,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     tail += detail::energy_report(last, E0) + "\n";
     if (cfg.self_gravity) tail += cadence_report(*sim) + "\n";
     if (cfg.multirate) tail += levels_report(*sim) + "\n";
+    if (const ContactSystem* cs = sim->contact_system())
+      tail += "neighbour list: " + std::to_string(cs->rebuild_count()) + " full rebuilds, " +
+              std::to_string(cs->local_update_count()) + " merges of new pairs, " +
+              std::to_string(cs->reinsert_count()) + " sphere re-insertions\n";
     if (bonds) tail += bond_report(*sim) + "\n";
     if (!tail.empty()) {
       spdlog::info("{}", tail.substr(0, tail.size() - 1));

@@ -8,6 +8,8 @@
 #                       MPI_PAPER_TIME s, 1 x 2 against 2 x 1 (interleaved, MPI_SCALING_REPS rounds),
 #                       phases, communication, equalisation rounds and an h5diff of the two final
 #                       checkpoints (runs/nbody-mpi-paper-scaling/scaling.md)
+#   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
+#                       paper's 10^6 spheres on 64, 512 and 4 096 ranks (stated model, seconds)
 # Included by pipelines/Makefile (ROOT, PY, JOBS, MPI_BUILD, build-mpi).
 MPI_SCALING_STEPS ?= 200
 MPI_SCALING_REPS ?= 3
@@ -31,3 +33,7 @@ nbody-mpi-paper-scaling: build-mpi ## multi-rate on MPI: paper-method debris, 1 
 	  --method paper --coarsen 1 $$(test -f $(DEMO1K)/fragment/frag_outflow.h5 && echo --outflow $(DEMO1K)/fragment/frag_outflow.h5)
 	$(PY) $(ROOT)/pipelines/mpi/mpi_paper_scaling.py $(MPI_BUILD)/nbody/ssdem-grav $(PAPER_SPHERES) \
 	  $(RUNS)/nbody-mpi-paper-scaling $(MPI_PAPER_TIME) $(MPI_SCALING_REPS) $(MPIRUN)
+
+.PHONY: nbody-mpi-extrapolate
+nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks from the measured 2-rank figures
+	$(PY) $(ROOT)/pipelines/mpi/nbody_extrapolate.py

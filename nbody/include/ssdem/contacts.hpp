@@ -128,6 +128,13 @@ class ContactSystem {
   const std::vector<std::uint32_t>& pair_j() const { return pj_; }
   /// Whether (a, b) (either order) is in the pair list.
   bool listed(std::size_t a, std::size_t b) const;
+  /// Appends to `out` every sphere whose reference position lies in the 27 grid cells around x
+  /// (cell edge 2 s_max + skin): every sphere j with |x_j - x| + |x_j - x_ref,j| <= the cell edge.
+  void near_point(const Vec3& x, std::vector<std::uint32_t>& out) const;
+  /// Reference positions of the cell grid (where each sphere was last inserted).
+  const std::vector<Vec3>& reference_positions() const { return xref_; }
+  /// Edge of the grid's cells (2 s_max + skin over the spheres of the last rebuild).
+  double cell_edge() const { return cell_; }
   /// Full rebuilds (grid and list from scratch).
   std::size_t rebuild_count() const { return rebuilds_; }
   /// Local updates that changed the pair list (merge), and sphere re-insertions in total.

@@ -11,11 +11,14 @@
 ///     (k - 2t = g) and not in contact without (k - 2t = k/2 >= 0). No check needed.
 ///   * a mover (d >= t; debris: the few fast fragments): its position is sent to every rank
 ///     (allgather of the movers, one collective per step as the former max-displacement
-///     allreduce), and each rank tests its own spheres against the foreign movers (a box test,
-///     then the spheres): a near pair (m, j) is covered iff m is a ghost here and j was sent to
-///     m's rank at the exchange (x_j(ex) within R of that rank's box then). Any uncovered near
-///     pair on any rank, or more movers than max(64, N / 16) (the test would cost more than an
-///     exchange), triggers the exchange.
+///     allreduce), and each rank tests its own spheres against the foreign movers through the pair
+///     list's cell grid (ContactSystem::near_point, cell edge 2 s_max + k: a j within s_m + s_j +
+///     g' of the mover whose reference position is within k - g' of x_j lies in the 27 cells
+///     around the mover; g' = g with multi-rate, 0 (a contact) without), and the rare own spheres
+///     farther than k - g' from their reference position directly. A near pair (m, j) is covered
+///     iff m is a ghost here and j was sent to m's rank at the exchange (x_j(ex) within R of that
+///     rank's box then). Any uncovered pair on any rank, or more movers than max(64, N / 16),
+///     triggers the exchange.
 /// The old rule (an exchange whenever max d >= t) exchanged every other base step on the paper
 /// debris, where fragments at hundreds of m/s move t in a few steps. Exchanges never change
 /// results (the forces are those of one rank whenever the ghosts cover every near pair), only cost.
@@ -41,7 +44,7 @@ double box_distance(const Vec3& p, const double* lo, const double* hi) {
 }  // namespace
 
 bool DomainSim::need_exchange() {
-  const double t = exchange_distance(), g = 0.5 * skin_;
+  const double t = exchange_distance(), g = cfg_.multirate ? 0.5 * skin_ : 0.0;
   std::vector<Mover> mine;
   for (std::uint32_t i : own_)
     if ((sp_.x[i] - xex_[i]).squaredNorm() >= t * t)
@@ -50,32 +53,43 @@ bool DomainSim::need_exchange() {
   if (all.empty()) return false;
   if (all.size() > std::max<std::size_t>(64, gsp_.size() / 16)) return true;
   ++stats_.mover_checks;
+  // a near pair of foreign mover m and own sphere j: covered iff m is a ghost here and j was sent
+  // to m's rank (x_j(ex) within the reach of that rank's box at the exchange)
+  auto covered = [&](const Mover& m, std::uint32_t j) {
+    const auto it = std::lower_bound(gidx_.begin(), gidx_.end(), m.g);
+    const bool ghost = it != gidx_.end() && *it == m.g && !mine_[it - gidx_.begin()];
+    const double* bx = &boxes_[7 * m.rank];
+    return ghost && bx[0] != 0.0 && box_distance(xex_[j], bx + 1, bx + 4) < reach_;
+  };
+  auto near = [&](const Mover& m, std::uint32_t j) {
+    const double r = m.s + sp_.s[j] + g;
+    return (sp_.x[j] - Vec3(m.x[0], m.x[1], m.x[2])).squaredNorm() < r * r;
+  };
+  // own spheres the grid may not find (farther than skin - g' from their reference position)
+  const std::vector<Vec3>& xref = contacts_->reference_positions();
+  const double lim = skin_ - g;
+  std::vector<std::uint32_t> direct, cand;
+  for (std::uint32_t j : own_)
+    if ((sp_.x[j] - xref[j]).squaredNorm() > lim * lim) direct.push_back(j);
+  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};  // own box now
+  for (std::uint32_t j : own_)
+    for (int c = 0; c < 3; ++c) {
+      lo[c] = std::min(lo[c], sp_.x[j][c]);
+      hi[c] = std::max(hi[c], sp_.x[j][c]);
+    }
   bool bad = false;
-  if (!own_.empty()) {
-    Vec3 lo = sp_.x[own_[0]], hi = lo;
-    for (std::uint32_t i : own_) {
-      lo = lo.cwiseMin(sp_.x[i]);
-      hi = hi.cwiseMax(sp_.x[i]);
+  for (const Mover& m : all) {
+    if (m.rank == comm_.rank || own_.empty()) continue;
+    if (box_distance(Vec3(m.x[0], m.x[1], m.x[2]), lo, hi) >= m.s + smax_ + g) continue;  // near none
+    if (m.s + smax_ + skin_ <= contacts_->cell_edge()) {
+      cand = direct;
+      contacts_->near_point(Vec3(m.x[0], m.x[1], m.x[2]), cand);
+    } else {
+      cand = own_;  // a mover larger than the local spheres: the grid's cells are too small for it
     }
-    const double lo3[3] = {lo.x(), lo.y(), lo.z()}, hi3[3] = {hi.x(), hi.y(), hi.z()};
-    for (const Mover& m : all) {
-      if (m.rank == comm_.rank) continue;
-      const Vec3 xm(m.x[0], m.x[1], m.x[2]);
-      if (box_distance(xm, lo3, hi3) >= m.s + smax_ + g) continue;
-      const auto it = std::lower_bound(gidx_.begin(), gidx_.end(), m.g);
-      const bool ghost = it != gidx_.end() && *it == m.g && !mine_[it - gidx_.begin()];
-      const double* bx = &boxes_[7 * m.rank];  // m's rank's box at the exchange
-      for (std::uint32_t j : own_) {
-        const double r = m.s + sp_.s[j] + g;
-        if ((sp_.x[j] - xm).squaredNorm() >= r * r) continue;
-        const bool sent = bx[0] != 0.0 && box_distance(xex_[j], bx + 1, bx + 4) < reach_;
-        if (!ghost || !sent) {
-          bad = true;
-          break;
-        }
-      }
-      if (bad) break;
-    }
+    for (std::uint32_t j : cand)
+      if (mine_[j] && near(m, j) && !covered(m, j)) bad = true;
+    if (bad) break;
   }
   return comm_.max(bad ? 1.0 : 0.0) > 0.0;
 }

@@ -1,0 +1,63 @@
+#!/usr/bin/env python3
+"""Extrapolation of the MPI ssdem-grav (multi-rate, the pipeline's reaccumulation scene) from the
+measured 2-rank run on the 1 km paper-method debris to the paper's 10^6 spheres on 64, 512 and 4096
+ranks (issue 19). A stated model, not a measurement; every input is a command-line option whose
+default is the measured value (nbody/README.md, "Multi-rate on MPI, the paper-method debris").
+
+Model, per base step, for P ranks of n = N / P own spheres each (one core per rank):
+  compute   c n (1 + f_g)/(1 + f_g0)      c: contacts, neighbour list, levels and kicks per own sphere
+                                          and base step, measured with ghost fraction f_g0; pairs
+                                          across a boundary are computed on both sides, so the
+                                          ghost fraction f_g = g/n adds in proportion
+  ghosts    g = k_g n^(2/3)               k_g from the measured run: 487 ghosts behind one cut of a
+                                          body of 8 225 spheres (area ~ 8225^(2/3) sphere diameters^2
+                                          -> 1.2 per unit area); an ORB box has up to 6 cut faces
+  gravity   (E / S) (b N + w n + t_ag)    replicated top (domain_sim.hpp): every rank builds the
+                                          tree of all N spheres (b per sphere) and walks its own (w);
+                                          positions allgathered (32 B per sphere received per rank
+                                          at bandwidth B); E evaluations in S base steps
+  messages  3 a + g m_h / B + 3 a (1 + log2 P)
+                                          three point-to-point halos (positions, levels, velocities:
+                                          m_h = 24 + 1 + 120 B per ghost in all) and three collectives
+                                          (movers' allgather, levels-changed and failure allreduces)
+The paper's run: N = 8 225 x 5^3 (200 m cells instead of 1 km), S and E 5x the measured 1 km run's
+(base step proportional to the cell: the kinetic k_n rule), 4.5 h.
+Usage: nbody_extrapolate.py [--c NS] [--b NS] [--w NS] ... (see --help); prints a Markdown table.
+"""
+import argparse
+import math
+
+ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+ap.add_argument("--c", type=float, default=23.5, help="ns per own sphere per base step, no gravity (2 x 1 run)")
+ap.add_argument("--fg0", type=float, default=487 / 4112, help="ghost fraction of the measured run")
+ap.add_argument("--kg", type=float, default=6 * 1.2, help="ghosts per n^(2/3) (6 faces x 1.2)")
+ap.add_argument("--b", type=float, default=146.0, help="ns per sphere for the tree build (replicated)")
+ap.add_argument("--w", type=float, default=1900.0, help="ns per own sphere for the tree walk (theta 0.25)")
+ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="gravity evaluations per base step")
+ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
+ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
+ap.add_argument("--N", type=float, default=8225 * 125, help="spheres (the paper's 200 m hand-off)")
+ap.add_argument("--steps", type=float, default=5 * 3242057, help="base steps of the 4.5 h run")
+args = ap.parse_args()
+
+rows = ["| ranks P | own n | ghosts g (g/n) | compute µs | gravity µs (build / walk / gather) | "
+        "communication µs | per base step µs | communication share | 4.5 h wall | core-hours |",
+        "|---|---|---|---|---|---|---|---|---|---|"]
+for P in (64, 512, 4096):
+    n = args.N / P
+    g = args.kg * n ** (2 / 3)
+    comp = args.c * 1e-3 * n * (1 + g / n) / (1 + args.fg0)
+    e = args.evals_per_step
+    build = e * args.b * 1e-3 * args.N
+    walk = e * args.w * 1e-3 * n
+    gather = e * args.N * 32 / (args.bw * 1e3)
+    grav = build + walk + gather
+    comm = 3 * args.alpha + g * 145 / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
+    tot = comp + grav + comm
+    wall_h = tot * 1e-6 * args.steps / 3600
+    rows.append(f"| {P} | {n:.0f} | {g:.0f} ({g / n:.2f}) | {comp:.1f} | {grav:.1f} ({build:.1f} / {walk:.1f} / "
+                f"{gather:.1f}) | {comm:.1f} | {tot:.1f} | {(comm + gather) / tot:.0%} | {wall_h:.2f} h | "
+                f"{wall_h * P:.0f} |")
+print(f"N = {args.N:.3g} spheres, {args.steps:.3g} base steps, {args.evals_per_step * args.steps:.3g} gravity "
+      f"evaluations; latency {args.alpha} µs, bandwidth {args.bw} GB/s per rank (assumed)\n")
+print("\n".join(rows))
