@@ -5,6 +5,7 @@
 #include "ssdem/contacts.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -132,8 +133,16 @@ bool ContactSystem::local_update(const Spheres& sp) {
     for (std::size_t i = 0; i < n; ++i)
       if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) moved_.push_back(static_cast<std::uint32_t>(i));
   }
-  if (moved_.empty()) return false;
-  if (moved_.size() > std::max<std::size_t>(n / 4, 32)) {  // cheaper from scratch
+  // a waiting pair must be listed once its gap falls below (1 - 2 f) skin (the list's promise)
+  const double gl = (1.0 - 2.0 * reinsert_frac_) * skin_;
+  auto due = [&](std::uint64_t k) {
+    const auto i = static_cast<std::uint32_t>(k >> 32), j = static_cast<std::uint32_t>(k & 0xFFFFFFFFu);
+    const double r = sp.s[i] + sp.s[j] + gl;
+    return (sp.x[j] - sp.x[i]).squaredNorm() < r * r;
+  };
+  if (moved_.empty()) {
+    if (waiting_.empty() || std::none_of(waiting_.begin(), waiting_.end(), due)) return false;
+  } else if (moved_.size() > std::max<std::size_t>(n / 4, 32)) {  // cheaper from scratch
     build_pairs(sp);
     return true;
   }
@@ -160,21 +169,30 @@ bool ContactSystem::local_update(const Spheres& sp) {
   nk.erase(std::unique(nk.begin(), nk.end()), nk.end());
   std::sort(ok.begin(), ok.end());
   ok.erase(std::unique(ok.begin(), ok.end()), ok.end());
-  // No new pair: nothing to change but the reference positions (pairs that left the reach stay
-  // listed until a merge or rebuild drops them; a listed pair out of contact contributes nothing).
-  // Such pairs are flagged and counted; once they are an eighth of the list, everything is
-  // rebuilt so that the list does not keep growing on an expanding cloud.
+  // New pairs (in nk, not listed) wait until one of them is due: until its gap falls below
+  // (1 - 2 f) skin, a pair can be neither in contact nor near (multirate.hpp), so listing it earlier
+  // would change no force, level or history; a merge costs O(pairs) (the history is carried).
+  // They are merged together when one is due, or when they are an eighth of the list.
   {
-    bool all_listed = true;
+    std::vector<std::uint64_t> fresh;
     std::size_t q = 0;
     for (std::uint64_t k : nk) {
       while (q < ok.size() && ok[q].first < k) ++q;
-      if (q == ok.size() || ok[q].first != k) {
-        all_listed = false;
-        break;
-      }
+      if (q == ok.size() || ok[q].first != k) fresh.push_back(k);
     }
-    if (all_listed) {
+    // waiting pairs of a re-inserted sphere were recomputed into nk (or left its reach)
+    std::vector<std::uint64_t> keep;
+    for (std::uint64_t k : waiting_)
+      if (!mark_[k >> 32] && !mark_[k & 0xFFFFFFFFu]) keep.push_back(k);
+    waiting_.clear();
+    std::merge(keep.begin(), keep.end(), fresh.begin(), fresh.end(), std::back_inserter(waiting_));
+    const bool merge_now = std::any_of(waiting_.begin(), waiting_.end(), due) ||
+                           8 * waiting_.size() > std::max<std::size_t>(pi_.size(), 64);
+    // No merge: nothing to change but the reference positions (pairs that left the reach stay
+    // listed until a merge or rebuild drops them; a listed pair out of contact contributes
+    // nothing). Such pairs are flagged and counted; once they are an eighth of the list,
+    // everything is rebuilt so that the list does not keep growing on an expanding cloud.
+    if (!merge_now) {
       for (const auto& [k, p] : ok)
         if (!std::binary_search(nk.begin(), nk.end(), k) && !stale_flag_[p]) {
           stale_flag_[p] = 1;
@@ -201,6 +219,12 @@ bool ContactSystem::local_update(const Spheres& sp) {
       ++q;
     }
   };
+  // the recomputed pairs of M and the waiting pairs (which hold this update's new pairs of M too)
+  std::vector<std::uint64_t> add;
+  add.reserve(nk.size() + waiting_.size());
+  std::set_union(nk.begin(), nk.end(), waiting_.begin(), waiting_.end(), std::back_inserter(add));
+  waiting_.clear();
+  nk.swap(add);
   for (std::size_t p = 0; p < P; ++p) {
     if (mark_[pi_[p]] || mark_[pj_[p]]) continue;
     emit_new_below((static_cast<std::uint64_t>(pi_[p]) << 32) | pj_[p]);
@@ -223,6 +247,7 @@ void ContactSystem::build_pairs(const Spheres& sp) {
     throw common::InputError("ssdem: more than 2^32-1 spheres are not supported");
   ++rebuilds_;
   rebuilt_since_compute_ = true;
+  waiting_.clear();
   xref_ = sp.x;
   double smax = 0.0;
   for (std::size_t i = 0; i < n; ++i) smax = std::max(smax, sp.s[i]);

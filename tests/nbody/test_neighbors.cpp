@@ -30,13 +30,13 @@ Spheres moving_pile(double R, double vlo, double vhi, std::uint64_t seed) {
   return sp;
 }
 
-// Every overlapping pair (brute force O(N^2)) must be in the list; returns the number missed
-// and adds the number of overlapping pairs to `found`.
-std::size_t missed(const ContactSystem& cs, const Spheres& sp, std::size_t& found) {
+// Every pair with a gap below g (brute force O(N^2); g = 0: every overlapping pair) must be in the
+// list; returns the number missed and adds the number of such pairs to `found`.
+std::size_t missed(const ContactSystem& cs, const Spheres& sp, std::size_t& found, double g = 0.0) {
   std::size_t miss = 0;
   for (std::size_t i = 0; i < sp.size(); ++i)
     for (std::size_t j = i + 1; j < sp.size(); ++j) {
-      const double r = sp.s[i] + sp.s[j];
+      const double r = sp.s[i] + sp.s[j] + g;
       if ((sp.x[j] - sp.x[i]).squaredNorm() < r * r) {
         ++found;
         if (!cs.listed(i, j)) ++miss;
@@ -60,19 +60,23 @@ ContactParams linear(unsigned parts) {
 }  // namespace
 
 // A 5 km/s fragment through a pile and a 100 m/s one into it, pile spheres moving at 0.1-50 m/s
-// (so local updates happen every step, in varying subsets): no overlapping pair is ever unlisted.
+// (so local updates happen every step, in varying subsets): no overlapping pair is ever unlisted,
+// and with re-insertion at skin/4 (multi-rate) no pair closer than skin/2 either, although new
+// pairs wait to be merged until one is that close.
 TEST(Neighbors, NoMissedContactFastFragments) {
+  for (double f : {0.5, 0.25})
   for (double skin : {0.0, 0.1, 0.5, 2.0}) {
     Spheres sp = moving_pile(6.0, 0.1, 50.0, 7);
     const std::size_t n0 = sp.size();
     sp.push(1000000, Vec3(-20.0, 0.3, 0.2), Vec3(5000.0, 0, 0), Vec3::Zero(), 1.0, 0.8);
     sp.push(1000001, Vec3(0.4, -8.5, 0.1), Vec3(0, 100.0, 0), Vec3::Zero(), 1.0, 1.2);
     ContactSystem cs(linear(0), {}, skin);
+    cs.set_reinsert_fraction(f);
     const double dt = 1e-4;  // fast fragment: 0.5 m per step; pile: up to 0.005 m per step
     std::size_t found = 0, fast_found = 0, miss = 0;
     for (int step = 0; step < 600; ++step) {
       cs.update_neighbors(sp);
-      miss += missed(cs, sp, found);
+      miss += missed(cs, sp, found, (1.0 - 2.0 * f) * skin);
       for (std::size_t i = 0; i < n0; ++i)
         for (std::size_t k : {n0, n0 + 1}) {
           const double r = sp.s[i] + sp.s[k];
@@ -80,7 +84,7 @@ TEST(Neighbors, NoMissedContactFastFragments) {
         }
       for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
     }
-    EXPECT_EQ(miss, 0u) << "skin " << skin;
+    EXPECT_EQ(miss, 0u) << "skin " << skin << ", re-insertion at " << f << " skin";
     EXPECT_GT(found, 1000u);
     EXPECT_GT(fast_found, 50u) << "the fragments must actually meet the pile";
     EXPECT_GT(cs.reinsert_count() + cs.rebuild_count(), 100u);
@@ -149,7 +153,8 @@ TEST(Neighbors, HistoryBitIdenticalToRebuildEveryStep) {
   EXPECT_GT(contacts, 3000u) << "the test must have contacts with history";
   std::printf("merges %zu, re-insertions %zu, full rebuilds %zu\n", a.cs.local_update_count(),
               a.cs.reinsert_count(), a.cs.rebuild_count());
-  EXPECT_GE(a.cs.local_update_count(), 3u) << "the test must exercise merges";
+  // (new pairs wait until one is in contact and are then merged together: few merges)
+  EXPECT_GE(a.cs.local_update_count(), 1u) << "the test must exercise merges";
   EXPECT_LT(a.cs.rebuild_count(), 100u);  // vs 2000
   EXPECT_EQ(b.cs.rebuild_count(), 2000u);
 }

@@ -14,17 +14,27 @@
 ///   test (I) against the partners' reference positions r_j, whatever their age). If that pair
 ///   set holds no pair that is not listed yet (a lone fast fragment, spheres moving apart), the
 ///   list is left untouched (it may then hold pairs beyond the reach: harmless, see below; they
-///   are flagged, and when they are 1/8 of the list grid and list are rebuilt from scratch); else
-///   the pairs of M are replaced in the (i, j)-sorted list by a merge. If |M| > max(n/4, 32),
-///   grid and list are rebuilt from scratch (r = x for all; same result, cheaper per sphere).
+///   are flagged, and when they are 1/8 of the list grid and list are rebuilt from scratch).
+///   New pairs are not merged at once: they wait (W) until one of them is due, i.e. its current
+///   gap |x_i - x_j| - s_i - s_j is below g_l = (1 - 2 f) k (0 with the default f = 1/2; k/2 with
+///   multi-rate's f = 1/4), checked at every update; then the pairs of M are replaced in the
+///   (i, j)-sorted list by a merge that adds the waiting pairs too. (A merge copies every pair's
+///   history: on reaccumulating debris new pairs appear every few steps, and merging each at
+///   once cost 3x the rest of the list's work; measured in nbody/README.md.) Waiting pairs are
+///   merged as well when they are 1/8 of the list; a waiting pair with a member in M is
+///   recomputed with it. If |M| > max(n/4, 32), grid and list are rebuilt from scratch (r = x for
+///   all, W empty; same result, cheaper per sphere).
 ///   Cell edge >= the largest reach 2 s_max + k, so every partner of (I) is in the 27 cells.
-/// No-miss criterion (proof sketch): (I) holds after every update, since pairs with no member in
-/// M keep their r and were tested against them, and pairs with a member in M are re-tested with
-/// the new r (both members' current r; a pair with both in M is tested once both are moved).
-/// After the update d_i <= k/2 for all i. For an unlisted pair, by (I) and the triangle
-/// inequality, |x_i - x_j| >= |r_i - r_j| - d_i - d_j >= s_i + s_j + k - k/2 - k/2 = s_i + s_j,
-/// i.e. no overlap (contact_pair needs |x_i - x_j| < s_i + s_j). So every pair in contact is
-/// listed. (A per-pair test d_i + d_j <= k would do too; the per-sphere k/2 makes it O(1) per
+/// No-miss criterion (proof sketch): (I) holds for the listed and waiting pairs together after
+/// every update, since pairs with no member in M keep their r and were tested against them, and
+/// pairs with a member in M are re-tested with the new r (both members' current r; a pair with
+/// both in M is tested once both are moved). A waiting pair is listed before its gap falls below
+/// g_l (it is checked at every update), so every pair with a gap below g_l, in contact in
+/// particular, is listed.
+/// After the update d_i <= f k for all i (f = 1/2 above). For a pair neither listed nor waiting,
+/// by (I) and the triangle inequality, |x_i - x_j| >= |r_i - r_j| - d_i - d_j >= s_i + s_j + k -
+/// 2 f k, i.e. a gap of at least g_l: no overlap (contact_pair needs |x_i - x_j| < s_i + s_j).
+/// So every pair in contact is listed. (A per-pair test d_i + d_j <= k would do too; the per-sphere k/2 makes it O(1) per
 /// sphere.) Only the spheres that moved more than k/2 pay: on expanding debris the few fast
 /// fragments are re-inserted every step, the slow bulk is not touched.
 /// Determinism: the pair list is sorted by (i, j) with i < j; per-pair results are written to
@@ -185,6 +195,7 @@ class ContactSystem {
   std::vector<std::uint8_t> mark_;   // scratch: sphere in the moved set
   std::vector<std::uint32_t> moved_;
   std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0;
+  std::vector<std::uint64_t> waiting_;    // new pairs not merged yet (keys i << 32 | j, i < j, sorted)
   std::vector<std::uint8_t> stale_flag_;  // per pair: left listed beyond its reach
   std::size_t stale_ = 0;                 // number of flagged pairs
   bool rebuilt_since_compute_ = false;
