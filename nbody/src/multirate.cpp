@@ -107,36 +107,52 @@ Substep::Substep(double h_, int K_, std::int64_t step, std::int64_t block_start)
 
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
                     double hk, bool gravity_kick, bool spin) {
+  // (the arrays' data pointers taken once: the loop then runs as over plain arrays)
   const std::size_t n = k.level.size();
+  const std::uint8_t* level = k.level.data();
+  Vec3* x = k.sp.x.data();
+  Vec3* v = k.sp.v.data();
+  Vec3* w = k.sp.w.data();
+  const Vec3* a = k.a.data();
+  const Vec3* alpha = k.alpha.data();
+  const Vec3* ag = k.ag.data();
+  std::int64_t* topen = k.topen.data();
+  double* hopen = k.hopen.data();
 #pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
-    const std::int64_t len = std::int64_t{1} << k.level[i];
+    const std::int64_t len = std::int64_t{1} << level[i];
     const bool opens = (s0 & (len - 1)) == 0;  // synchronised now
     if (mask && !mask[i]) {
-      if (opens) k.topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
+      if (opens) topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
       continue;
     }
-    if (gravity_kick) k.sp.v[i] += hk * k.ag[i];
+    if (gravity_kick) v[i] += hk * ag[i];
     if (opens) {  // opening kick
       const double ho = 0.5 * h * static_cast<double>(len);
-      k.hopen[i] = ho;
-      k.topen[i] = step;
-      k.sp.v[i] += ho * k.a[i];
-      if (spin) k.sp.w[i] += ho * k.alpha[i];
+      hopen[i] = ho;
+      topen[i] = step;
+      v[i] += ho * a[i];
+      if (spin) w[i] += ho * alpha[i];
     }
-    k.sp.x[i] += h * k.sp.v[i];
+    x[i] += h * v[i];
   }
 }
 
 void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
                  double hk, bool gravity_kick, bool spin) {
+  Vec3* v = k.sp.v.data();
+  Vec3* w = k.sp.w.data();
+  const Vec3* a = k.a.data();
+  const Vec3* alpha = k.alpha.data();
+  const Vec3* ag = k.ag.data();
+  const std::int64_t* topen = k.topen.data();
 #pragma omp parallel for schedule(static) if (na >= kOmpMin)
   for (std::size_t r = 0; r < na; ++r) {
     const std::uint32_t i = active[r];
-    const double hc = 0.5 * (static_cast<double>(step - k.topen[i]) * h);
-    k.sp.v[i] += hc * k.a[i];
-    if (spin) k.sp.w[i] += hc * k.alpha[i];
-    if (gravity_kick) k.sp.v[i] += hk * k.ag[i];
+    const double hc = 0.5 * (static_cast<double>(step - topen[i]) * h);
+    v[i] += hc * a[i];
+    if (spin) w[i] += hc * alpha[i];
+    if (gravity_kick) v[i] += hk * ag[i];
   }
 }
 
