@@ -73,7 +73,9 @@ class LevelRules {
   int wall_level(const Spheres& sp, const ContactSystem& cs, std::uint32_t i) const;
 
   std::vector<std::uint8_t> level, sync, promoted;
-  std::vector<std::uint8_t> lflag;  ///< level changed since the last equalisation
+  /// Level changed since the last equalisation; right after equalise(), exactly the spheres it
+  /// lowered (it consumes the flags it starts from).
+  std::vector<std::uint8_t> lflag;
   std::int64_t promotions = 0;      ///< promotions in the middle of a step (lower())
 
  private:

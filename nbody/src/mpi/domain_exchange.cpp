@@ -27,10 +27,6 @@ void append_sphere(const std::vector<char>& b, std::size_t& off, Spheres& sp) {
   get_sphere(b, off, sp, sp.size() - 1);
 }
 bool is_wall(const HistoryRecord& r) { return r.id_b >= kWallIdBase; }
-// Distance from p to a box (0 inside).
-double box_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
-  return (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero()).norm();
-}
 }  // namespace
 
 void DomainSim::pack_owned(std::size_t i, std::vector<char>& b) const {
@@ -170,7 +166,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
       for (int r = 0; r < comm_.size; ++r) {
         const double* bx = &boxes[7 * r];
         if (r == comm_.rank || bx[0] == 0.0) continue;
-        if (box_distance(own.sp.x[k], Vec3(bx[1], bx[2], bx[3]), Vec3(bx[4], bx[5], bx[6])) >= reach_) continue;
+        if (box_distance(own.sp.x[k], bx + 1) >= reach_) continue;
         put(out[r], own.g[k]);
         put_sphere(own.sp, k, out[r]);
         if (cfg_.multirate) {

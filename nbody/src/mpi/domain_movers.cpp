@@ -37,10 +37,6 @@ struct Mover {
   double s;
   std::int32_t rank;
 };
-double box_distance(const Vec3& p, const double* lo, const double* hi) {
-  const Vec3 l(lo[0], lo[1], lo[2]), h(hi[0], hi[1], hi[2]);
-  return (l - p).cwiseMax(p - h).cwiseMax(Vec3::Zero()).norm();
-}
 }  // namespace
 
 bool DomainSim::need_exchange() {
@@ -59,7 +55,7 @@ bool DomainSim::need_exchange() {
     const auto it = std::lower_bound(gidx_.begin(), gidx_.end(), m.g);
     const bool ghost = it != gidx_.end() && *it == m.g && !mine_[it - gidx_.begin()];
     const double* bx = &boxes_[7 * m.rank];
-    return ghost && bx[0] != 0.0 && box_distance(xex_[j], bx + 1, bx + 4) < reach_;
+    return ghost && bx[0] != 0.0 && box_distance(xex_[j], bx + 1) < reach_;
   };
   auto near = [&](const Mover& m, std::uint32_t j) {
     const double r = m.s + sp_.s[j] + g;
@@ -71,12 +67,11 @@ bool DomainSim::need_exchange() {
   std::vector<std::uint32_t> direct, cand;
   for (std::uint32_t j : own_)
     if ((sp_.x[j] - xref[j]).squaredNorm() > lim * lim) direct.push_back(j);
-  double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};  // own box now
-  for (std::uint32_t j : own_)
-    for (int c = 0; c < 3; ++c) {
-      lo[c] = std::min(lo[c], sp_.x[j][c]);
-      hi[c] = std::max(hi[c], sp_.x[j][c]);
-    }
+  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);  // own box now
+  for (std::uint32_t j : own_) {
+    lo = lo.cwiseMin(sp_.x[j]);
+    hi = hi.cwiseMax(sp_.x[j]);
+  }
   bool bad = false;
   for (const Mover& m : all) {
     if (m.rank == comm_.rank || own_.empty()) continue;

@@ -41,33 +41,28 @@ void DomainSim::halo_positions() {
 
 // Owners' levels to their ghosts. assign: the ghost takes the owner's level (after the new levels
 // of the synchronised spheres); else the ghost is lowered to it where it is lower (an
-// equalisation round: LevelRules::lower mirrors the owner's promotion). Returns whether any
-// ghost of this rank changed.
-bool DomainSim::halo_levels(bool assign, int tz) {
-  if (reach_ < 0.0 || comm_.size == 1) return false;
+// equalisation round: LevelRules::lower mirrors the owner's promotion).
+void DomainSim::halo_levels(bool assign, int tz) {
+  if (reach_ < 0.0 || comm_.size == 1) return;
   const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
   std::vector<std::vector<char>> out(comm_.size);
   for (int r = 0; r < comm_.size; ++r)
     for (std::uint32_t i : send_[r]) put(out[r], lr_.level[i]);
   const std::vector<std::vector<char>> in = halo(out, sizeof(std::uint8_t));
-  bool changed = false;
   for (int r = 0; r < comm_.size; ++r) {
     std::size_t off = 0;
     for (std::uint32_t i : recv_[r]) {
       const auto l = get<std::uint8_t>(in[r], off);
-      if (assign) {
-        if (lr_.level[i] != l) {
-          lr_.level[i] = l;
-          lr_.lflag[i] = 1;
-        }
-      } else if (lr_.lower(i, l, tz)) {
-        changed = true;
+      if (!assign) {
+        lr_.lower(i, l, tz);
+      } else if (lr_.level[i] != l) {
+        lr_.level[i] = l;
+        lr_.lflag[i] = 1;
       }
     }
   }
   stats_.bytes_halo += comm_.bytes_sent - b0;
   stats_.wall_comm += omp_get_wtime() - t0;
-  return changed;
 }
 
 void DomainSim::multirate_forces() {
@@ -125,18 +120,14 @@ void DomainSim::step_multirate() {
     halo_levels(true, tz);
     // rounds to the fixed point: a local equalisation; if it changed the level of a sphere that
     // is a ghost elsewhere (on any rank), the owners' levels go to their ghosts (min) and another
-    // round follows; else every rank holds its ghosts' levels and is at its local fixed point
-    std::vector<std::uint8_t> before;
+    // round follows; else every rank holds its ghosts' levels and is at its local fixed point.
+    // (After an equalisation lflag marks exactly the spheres it lowered: level_rules.hpp.)
     for (;;) {
-      before.clear();
-      for (const auto& sr : send_)
-        for (std::uint32_t i : sr) before.push_back(lr_.level[i]);
       lr_.equalise(sp_, *contacts_, tz, nullptr);
       ++stats_.level_rounds;
       bool changed = false;
-      std::size_t k = 0;
       for (const auto& sr : send_)
-        for (std::uint32_t i : sr) changed = changed || lr_.level[i] != before[k++];
+        for (std::uint32_t i : sr) changed = changed || lr_.lflag[i] != 0;
       const double c1 = omp_get_wtime();
       const bool any = comm_.size > 1 && comm_.max(changed ? 1.0 : 0.0) > 0.0;
       stats_.wall_comm += omp_get_wtime() - c1;

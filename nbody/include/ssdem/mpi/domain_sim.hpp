@@ -64,6 +64,15 @@
 
 namespace ssdem::mpi {
 
+/// Distance from p to the box [lo, hi] (0 inside): the ghost criterion of an exchange.
+inline double box_distance(const Vec3& p, const Vec3& lo, const Vec3& hi) {
+  return (lo - p).cwiseMax(p - hi).cwiseMax(Vec3::Zero()).norm();
+}
+/// The same for a box stored as 3 + 3 doubles (lo, hi), as the exchanges gather them.
+inline double box_distance(const Vec3& p, const double* lohi) {
+  return box_distance(p, Vec3(lohi[0], lohi[1], lohi[2]), Vec3(lohi[3], lohi[4], lohi[5]));
+}
+
 /// Communication and decomposition counters of this rank.
 struct DomainStats {
   std::int64_t exchanges = 0, rebalances = 0, gravity_gathers = 0, steps = 0;
@@ -139,7 +148,7 @@ class DomainSim {
   void setup_multirate();
   void step_multirate();
   void halo_positions();
-  bool halo_levels(bool assign, int tz);
+  void halo_levels(bool assign, int tz);
   void multirate_forces();
   double exchange_distance() const { return (cfg_.multirate ? 0.25 : 0.5) * skin_; }
   bool need_exchange();  ///< collective (domain_movers.cpp)
