@@ -73,14 +73,17 @@ void Simulation::setup_multirate(const SimState* st) {
 }
 
 void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
-                    double h, bool extrap, double* tau_out) {
+                    double h, bool extrap, double* tau_out, const Vec3* gheld, double hk) {
 #pragma omp parallel for schedule(static) if (na >= kOmpMin)
   for (std::size_t r = 0; r < na; ++r) {
     const std::uint32_t i = active[r];
     const double tau = static_cast<double>(step - s.topen[i]) * h;
     tau_out[r] = tau;
     const double hc = tau - s.hopen[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
-    s.vpred[i] = s.sp.v[i] + hc * s.a[i];
+    // a step that holds the block's field (promoted: it does from now on, see below)
+    const bool held = gheld && (s.hopen[i] != hk || s.promoted[i]);
+    const Vec3 acc = held ? Vec3(s.a[i] + gheld[i]) : s.a[i];
+    s.vpred[i] = s.sp.v[i] + hc * acc;
     s.wpred[i] = s.sp.w[i] + hc * s.alpha[i];
     if (extrap) {
       if (s.tau_prev[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
@@ -93,8 +96,11 @@ void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::siz
     s.tau_prev[i] = tau;
     if (s.promoted[i]) {  // opening kick h_open a_old -> (tau/2) a_old
       const double c = 0.5 * tau - s.hopen[i];
-      s.sp.v[i] += c * s.a[i];
+      // held field: a whole-block step's opening impulse h_open g (h_open = hk) or a held step's
+      // h_open g becomes (tau/2) g, as if the field had been held since the opening
+      s.sp.v[i] += c * acc;
       s.sp.w[i] += c * s.alpha[i];
+      s.hopen[i] = 0.5 * tau;  // the opening kick it now had (never hk: tau < the block)
     }
   }
 }
@@ -106,7 +112,7 @@ Substep::Substep(double h_, int K_, std::int64_t step, std::int64_t block_start)
 }
 
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
-                    double hk, bool gravity_kick, bool spin) {
+                    double hk, bool gravity_kick, bool spin, const Vec3* gheld) {
   // (the arrays' data pointers taken once: the loop then runs as over plain arrays)
   const std::size_t n = k.level.size();
   const std::uint8_t* level = k.level.data();
@@ -126,33 +132,45 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
       if (opens) topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
       continue;
     }
-    if (gravity_kick) v[i] += hk * ag[i];
     if (opens) {  // opening kick
       const double ho = 0.5 * h * static_cast<double>(len);
       hopen[i] = ho;
       topen[i] = step;
-      v[i] += ho * a[i];
+      if (gheld && ho != hk) {  // a step shorter than the block: the block's field held
+        v[i] += ho * Vec3(a[i] + gheld[i]);
+      } else {
+        if (gravity_kick) v[i] += hk * ag[i];
+        v[i] += ho * a[i];
+      }
       if (spin) w[i] += ho * alpha[i];
+    } else if (gravity_kick) {
+      v[i] += hk * ag[i];
     }
     x[i] += h * v[i];
   }
 }
 
 void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
-                 double hk, bool gravity_kick, bool spin) {
+                 double hk, bool gravity_kick, bool spin, const Vec3* gheld) {
   Vec3* v = k.sp.v.data();
   Vec3* w = k.sp.w.data();
   const Vec3* a = k.a.data();
   const Vec3* alpha = k.alpha.data();
   const Vec3* ag = k.ag.data();
   const std::int64_t* topen = k.topen.data();
+  const double* hopen = k.hopen.data();
 #pragma omp parallel for schedule(static) if (na >= kOmpMin)
   for (std::size_t r = 0; r < na; ++r) {
     const std::uint32_t i = active[r];
     const double hc = 0.5 * (static_cast<double>(step - topen[i]) * h);
-    v[i] += hc * a[i];
+    if (gheld && hopen[i] != hk) {  // held step: the held field, and at the block's end the
+      v[i] += hc * Vec3(a[i] + gheld[i]);  // trapezoid residual hk (g_new - g_held)
+      if (gravity_kick) v[i] += hk * Vec3(ag[i] - gheld[i]);
+    } else {
+      v[i] += hc * a[i];
+      if (gravity_kick) v[i] += hk * ag[i];
+    }
     if (spin) w[i] += hc * alpha[i];
-    if (gravity_kick) v[i] += hk * ag[i];
   }
 }
 
@@ -183,7 +201,7 @@ void Simulation::multirate_forces() {
   subset_.spheres = active_;
   subset_.hsphere.resize(na);
   predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_, lr_.promoted},
-                 active_.data(), na, step_, h, extrap, subset_.hsphere.data());
+                 active_.data(), na, step_, h, extrap, subset_.hsphere.data(), held_field(ag_), 0.5 * h * block_);
   count_active(lstats_, active_.data(), na, step_, topen_, subset_.hsphere.data());
   bool uniform = na == n;
   const double tau0 = na > 0 ? subset_.hsphere[0] : 0.0;
@@ -209,7 +227,7 @@ void Simulation::step_multirate() {
   double t0 = omp_get_wtime(), c0 = cpu_now_();
   if (ss.opens) lr_.cap(ss.L);
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
-  open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin);
+  open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin, held_field(ag_));
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;
@@ -242,12 +260,14 @@ void Simulation::step_multirate() {
   times_.contacts += omp_get_wtime() - t0;
   times_.cpu_contacts += cpu_now_() - c0;
   if (sg && ss.closes) {
-    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
     compute_gravity(false);
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  close_kicks(kicks, active_.data(), active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin);
+  // the field held through this block: the previous evaluation once the block's end evaluated anew
+  close_kicks(kicks, active_.data(), active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin,
+              held_field(sg && ss.closes ? ag_old_ : ag_));
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now_() - c0;
   if (ss.closes) {

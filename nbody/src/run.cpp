@@ -428,7 +428,8 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     if (const ContactSystem* cs = sim->contact_system())
       tail += "neighbour list: " + std::to_string(cs->rebuild_count()) + " full rebuilds, " +
               std::to_string(cs->local_update_count()) + " merges of new pairs, " +
-              std::to_string(cs->reinsert_count()) + " sphere re-insertions\n";
+              std::to_string(cs->reinsert_count()) + " sphere re-insertions; " +
+              std::to_string(cs->pair_count()) + " pairs listed at the end\n";
     if (bonds) tail += bond_report(*sim) + "\n";
     if (!tail.empty()) {
       spdlog::info("{}", tail.substr(0, tail.size() - 1));

@@ -29,6 +29,10 @@ enum class GravitySolver { tree, direct };
 constexpr std::array kGravitySolvers{common::Choice{"tree", GravitySolver::tree},
                                      common::Choice{"direct", GravitySolver::direct}};
 
+enum class GravityInner { held, impulse };
+constexpr std::array kGravityInner{common::Choice{"held", GravityInner::held},
+                                   common::Choice{"impulse", GravityInner::impulse}};
+
 enum class ContactPreset { none, gravel };
 constexpr std::array kContactPresets{common::Choice{"none", ContactPreset::none},
                                      common::Choice{"gravel", ContactPreset::gravel}};
@@ -116,6 +120,12 @@ common::Schema ssdem_schema() {
             "0 = error-controlled cadence (block length from the measured force change, "
             "gravity.tolerance); k >= 1 = fixed: self-gravity every k contact steps (impulse RESPA "
             "outer step k*dt)");
+  s.add_choice("gravity.inner_steps", GravityInner::held, kGravityInner,
+               "multi-rate: how self-gravity enters spheres whose step is shorter than the gravity "
+               "block (in or near contact): held = the block-start field as a force at their own "
+               "kicks plus a trapezoid residual at the block's end (same block endpoints as impulse "
+               "for a free sphere; a resting pile feels its weight throughout the block), impulse "
+               "= the block's two half-kicks (RESPA; a pile breathes between them)");
   s.add_vec3("gravity.uniform", Eigen::Vector3d::Zero(), "m/s^2", -inf, inf, "uniform gravity field");
   // contacts
   s.add_bool("contact.enabled", true, "soft-sphere contacts on/off (off: no neighbour list)");
@@ -251,6 +261,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
   if (c.adaptive_gravity) c.gravity_every = 1;
   c.gravity_tolerance = sc.real("gravity.tolerance");
   c.gravity_max_every = static_cast<int>(sc.integer("gravity.max_every"));
+  c.gravity_held = sc.choice("gravity.inner_steps", kGravityInner) == GravityInner::held;
   c.uniform_g = sc.vec3("gravity.uniform");
   c.contacts = sc.boolean("contact.enabled");
   c.min_steps_per_contact = sc.real("time.min_steps_per_contact");

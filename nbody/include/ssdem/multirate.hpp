@@ -71,11 +71,34 @@
 /// Errors. A promotion in the middle of a step (a sphere on level l at time tau after its
 /// opening) replaces its opening kick (h_l/2) a_old by (tau/2) a_old; its drift so far used
 /// v + (h_l/2) a_old instead of v + (tau/2) a_old, a position error of tau (h_l - tau) a_old / 2
-/// (first order in h_l, once per promotion). a_old holds only the uniform field (self-gravity is
-/// the outer RESPA kick; a promoted sphere had no contact): in space (gravity.uniform = 0) a
-/// promotion is exact, and a sphere flying alone into a pile follows the single-rate trajectory
-/// bit for bit when its pairs are on the base level (test_nbody_multirate). Contacts never do
-/// work on spheres that are not synchronised, so no energy is created by the level changes.
+/// (first order in h_l, once per promotion). a_old holds only the uniform field (a promoted sphere
+/// had no contact) and, with the held field below, g: with gravity.inner_steps = "impulse" and
+/// gravity.uniform = 0 a promotion is exact, and a sphere flying alone into a pile follows the
+/// single-rate trajectory bit for bit when its pairs are on the base level (test_nbody_multirate).
+/// Contacts never do work on spheres that are not synchronised, so no energy is created by the
+/// level changes.
+/// Self-gravity inside a block (gravity.inner_steps; test_nbody_multirate_gravity). "impulse":
+/// every sphere takes the block's RESPA half-kicks hk g at its opening and its end (hk = K h/2,
+/// simulation.hpp). A resting pile then carries its weight only at the block's ends: inside the
+/// block the contacts push it apart unopposed and the closing kick pulls it back, a breathing of
+/// amplitude ~ g (K h)^2 / 8 that dissipates energy and forbids blocks much longer than a contact
+/// time. "held" (the default): a sphere whose step is shorter than the block (in or near contact;
+/// h_open != hk) takes instead the block-start field g_n as a force at its own kicks,
+///   opening (h_l/2)(a + g_n), closing (tau/2)(a + g_n), and at the block's end also
+///   v += hk (g_{n+1} - g_n)   (the trapezoid residual),
+/// so over the block it receives K h g_n + hk (g_{n+1} - g_n) = hk (g_n + g_{n+1}), the impulse
+/// scheme's total: momentum at block ends and the field's second-order accuracy are those of
+/// RESPA, and without contact forces the block endpoints are the impulse scheme's in exact
+/// arithmetic (KDK under a constant force is exact; asserted to 1e-11 on a close binary). A
+/// resting pile feels its weight at every step and does not breathe. Spheres on whole-block steps
+/// keep the impulses. A sphere promoted out of a whole-block step converts its opening impulse
+/// hk g_n into (tau/2) g_n, as if the field had been held since the block opened (its opening
+/// step records h_open = tau/2 afterwards); its drift so far used v + hk g_n instead of
+/// v + (tau/2) g_n, a position error tau (K h - tau) g_n / 2 <= (K h)^2 g / 8 (first order, once
+/// per promotion, as for a_old above; 0.5 m for a 20 s block at g = 1e-2 m/s^2, 1e-3 of a 1 km
+/// hand-off sphere's radius). g_n is the
+/// evaluation of the block's start (Simulation keeps it through the new evaluation at the block's
+/// end). The predicted velocities of held steps include g_n.
 /// The extrapolated dashpot predictor (simulation.hpp) extrapolates over the sphere's previous
 /// step; after a level change (previous step length differs) that one step uses the pkdgrav
 /// predictor.
@@ -142,7 +165,7 @@ struct ActiveArrays {
   std::vector<Vec3>& a_prev;
   std::vector<Vec3>& alpha_prev;
   const std::vector<std::int64_t>& topen;  ///< base step of each sphere's opening kick
-  const std::vector<double>& hopen;        ///< half-step of that kick [s]
+  std::vector<double>& hopen;              ///< half-step of that kick [s] (tau/2 after a promotion)
   std::vector<double>& tau_prev;           ///< length of each sphere's previous step [s]
   const std::vector<std::uint8_t>& promoted;
 };
@@ -151,8 +174,11 @@ struct ActiveArrays {
 /// tau = (step - topen) h (written to tau[r]), the predicted v, w of the dashpots (KDK: v_open +
 /// tau a_old, extrapolated by (tau/2)(a - a_prev) over equal steps when `extrap`), and for a
 /// promoted sphere its opening kick h_open a_old replaced by (tau/2) a_old (multirate.hpp).
+/// gheld: the gravity block's held field (gravity.inner_steps = "held"; null otherwise), hk the
+/// block's half-length: a step that holds it (h_open != hk, or promoted) predicts and corrects
+/// with a_old + g.
 void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
-                    double h, bool extrap, double* tau);
+                    double h, bool extrap, double* tau, const Vec3* gheld = nullptr, double hk = 0.0);
 /// Adds the active spheres' steps to the level statistics (sphere-time per level, evaluations).
 void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
                   const std::vector<std::int64_t>& topen, const double* tau);
@@ -183,12 +209,16 @@ struct KickArrays {
 /// mask null or mask[i] != 0 gets the block's opening gravity kick hk ag (when `gravity_kick`), its
 /// opening kick (h_l/2) a if synchronised at s0 (topen = step, hopen = h_l/2; the spin too when
 /// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) only records its opening step.
+/// With gheld (the block's held field, "held" mode) a sphere opening a step shorter than the block
+/// kicks with (h_l/2)(a + gheld) and takes no gravity impulse.
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
-                    double hk, bool gravity_kick, bool spin);
+                    double hk, bool gravity_kick, bool spin, const Vec3* gheld = nullptr);
 /// Closing kicks of the active spheres: v += (tau/2) a with tau = (step - topen) h (spins likewise),
-/// plus the block's closing gravity kick hk ag when `gravity_kick`.
+/// plus the block's closing gravity kick hk ag when `gravity_kick`. With gheld (the field held
+/// through this block: the previous evaluation at a block's end) a held step (h_open != hk) closes
+/// with (tau/2)(a + gheld) and, at the block's end, the residual hk (ag - gheld).
 void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
-                 double hk, bool gravity_kick, bool spin);
+                 double hk, bool gravity_kick, bool spin, const Vec3* gheld = nullptr);
 
 /// Number of trailing zero bits of s > 0 (the coarsest level synchronised at substep s).
 inline int trailing_level(std::int64_t s) {

@@ -40,7 +40,9 @@
 /// state at its start (SimState::gravity_block; checkpoints store it), so restarts are exact.
 /// Deviation from pkdgrav: pkdgrav evaluates gravity every step (iMaxRung = 1); predicted
 /// velocities for the dashpots here include the contact/uniform acceleration only (the gravity
-/// impulse is nearly uniform over a contact pair).
+/// impulse is nearly uniform over a contact pair). With multi-rate steps, spheres on steps shorter
+/// than the block hold the block's field instead of taking its impulses (gravity.inner_steps =
+/// "held", multirate.hpp "Self-gravity inside a block"); single-rate stepping uses the impulses.
 /// A scene enables only its physics: without self-gravity no tree is built; without contacts
 /// no neighbour list exists.
 #pragma once
@@ -67,6 +69,10 @@ struct SimConfig {
   bool adaptive_gravity = false;   ///< error-controlled cadence (see file comment)
   double gravity_tolerance = 1e-3; ///< eta: relative force change allowed per block
   int gravity_max_every = 64;      ///< k_max of the adaptive cadence
+  /// Multi-rate: spheres on steps shorter than the gravity block take the block-start field as a
+  /// force held through the block plus a trapezoid residual at its end (true: "held"), or the
+  /// block's two impulses (false: "impulse"); multirate.hpp, "Self-gravity inside a block".
+  bool gravity_held = true;
   Vec3 uniform_g = Vec3::Zero();
   bool contacts = false;
   ContactParams contact;
@@ -201,6 +207,11 @@ class Simulation {
   void setup_multirate(const SimState* st);
   void step_multirate();
   void multirate_forces();
+  /// g's data where spheres on steps shorter than the block hold the field (multi-rate,
+  /// self-gravity, gravity.inner_steps = "held"), else null (the block's impulses only).
+  const Vec3* held_field(const std::vector<Vec3>& g) const {
+    return cfg_.multirate && cfg_.self_gravity && cfg_.gravity_held && g.size() == sp_.size() ? g.data() : nullptr;
+  }
   // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
   struct BondLevelTerms;
   void setup_bond_levels();

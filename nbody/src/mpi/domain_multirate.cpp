@@ -71,7 +71,8 @@ void DomainSim::multirate_forces() {
   tau_own_.resize(no);
   predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_,
                               lr_.promoted},
-                 own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data());
+                 own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data(), held_field(ag_),
+                 0.5 * h * block_);
   count_active(lstats_, own_active_.data(), no, step_, topen_, tau_own_.data());
   if (cfg_.extrapolated_predictor) has_prev_ = true;
   if (contacts_) {
@@ -94,7 +95,7 @@ void DomainSim::step_multirate() {
   double t0 = omp_get_wtime();
   if (ss.opens) lr_.cap(ss.L);  // (ghosts too: the same rule on the same level)
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
-  open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin);
+  open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin, held_field(ag_));
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;
@@ -150,11 +151,12 @@ void DomainSim::step_multirate() {
   times_.integrate += tl;
   multirate_forces();
   if (sg && ss.closes) {
-    if (cfg_.adaptive_gravity) ag_old_ = ag_;
+    if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
     compute_gravity();
   }
   t0 = omp_get_wtime();
-  close_kicks(kicks, own_active_.data(), own_active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin);
+  close_kicks(kicks, own_active_.data(), own_active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin,
+              held_field(sg && ss.closes ? ag_old_ : ag_));
   times_.integrate += omp_get_wtime() - t0;
   if (ss.closes) close_gravity_block();
   ++times_.steps;
