@@ -5,8 +5,9 @@ runs TIME simulated seconds with the pipeline's scene (reaccumulate.toml), old a
 interleaved (old, new, old, new, ...), and reports medians of wall time, us per sphere
 evaluation (wall x threads / force evaluations of spheres), the phase split and the energy error.
 
-  late_pile_bench.py OLD NEW SNAPSHOT OUTDIR [--time 300] [--rounds 3] [--threads 1]
-OLD may be "-" (new only). Keys the old binary does not know (time.level_anchor, if its
+  late_pile_bench.py OLD NEW SNAPSHOT OUTDIR [--time 300] [--rounds 3] [--threads 1] [--sets "k=v;k=v"] [--old-sets ...]
+OLD may be "-" (new only); --sets (--old-sets) are extra --set overrides of the new (old) binary's runs (e.g.
+"gravity.inner_steps=\"impulse\";gravity.max_every=256" against the pipeline's defaults). Keys the old binary does not know (time.level_anchor, if its
 --help-params does not list it) are removed from its copy of the scene. Writes OUTDIR/late_pile_bench.md and prints it. Pure standard library."""
 import argparse
 import os
@@ -38,8 +39,9 @@ def old_scene(old, outdir):
     return dst
 
 
-def run(exe, scene, snap, t_end, threads, outdir):
-    wall, out = timed_run(exe, scene, bench_sets(snap, t_end, outdir) + ["output.series_every=1000"], threads)
+def run(exe, scene, snap, t_end, threads, outdir, extra=()):
+    wall, out = timed_run(exe, scene, bench_sets(snap, t_end, outdir) + ["output.series_every=1000"] + list(extra),
+                          threads)
     info = open(os.path.join(outdir, "run_info.txt")).read()
     m, e, err = DONE.search(out), EVALS.search(info), ERR.search(info)
     if not m or not e:
@@ -60,18 +62,24 @@ def main():
     ap.add_argument("--time", type=float, default=300.0)
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--threads", type=int, default=1)
+    ap.add_argument("--sets", default="")
+    ap.add_argument("--old-sets", default="")
     a = ap.parse_args()
+    extra = [s for s in a.sets.split(";") if s]
+    old_extra = [s for s in a.old_sets.split(";") if s]
     os.makedirs(a.outdir, exist_ok=True)
     new_scene = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
     res = {"old": [], "new": []}
     for k in range(a.rounds):
         if a.old != "-":
             res["old"].append(run(a.old, old_scene(a.old, a.outdir), a.snapshot, a.time, a.threads,
-                                  os.path.join(a.outdir, f"old{k}")))
-        res["new"].append(run(a.new, new_scene, a.snapshot, a.time, a.threads, os.path.join(a.outdir, f"new{k}")))
+                                  os.path.join(a.outdir, f"old{k}"), old_extra))
+        res["new"].append(run(a.new, new_scene, a.snapshot, a.time, a.threads, os.path.join(a.outdir, f"new{k}"),
+                              extra))
     med = lambda rs, key: statistics.median(r[key] for r in rs)
     lines = [f"# nbody-late-bench: {a.time:g} s from {a.snapshot}, {a.threads} thread(s), {a.rounds} round(s) "
-             "interleaved, medians", "",
+             "interleaved, medians" + (f"; new with --set {'; '.join(extra)}" if extra else "")
+             + (f"; old with --set {'; '.join(old_extra)}" if old_extra else ""), "",
              "| binary | base steps | sphere evaluations | wall s | us per sphere evaluation | gravity s [evals] | "
              "contacts s | integrate s (levels) | neighbours s | energy error / abs(E0) |",
              "|---|---|---|---|---|---|---|---|---|---|"]

@@ -164,7 +164,7 @@ nbody-bonds-momentum: ## beta of a bonded remnant: bonded components, MPM moment
 PAPER_OLD       ?=
 PAPER_TIME      ?= 60
 PAPER_ROUNDS    ?= 1
-PAPER_MAX_EVERY ?= 256
+PAPER_MAX_EVERY ?= 4096
 PAPER_SPHERES    = $(RUNS)/nbody-paper/spheres_c1.h5
 .PHONY: nbody-paper-bench
 nbody-paper-bench: ## paper-method debris (8 225 spheres, 20 steps/contact): wall, phases, levels (old vs new with PAPER_OLD=)
@@ -192,12 +192,16 @@ nbody-multirate-bench: ## multi-rate: one-pile overhead, 1e4 isolated spheres, 1
 # nbody-late-bench: the reaccumulated remnant, where a paper-method run spends most of its wall
 # time: LATE_TIME simulated seconds from the last N-body snapshot of LATE_RUN (default the demo;
 # `make -C pipelines demo` first), the pipeline's scene, LATE_THREADS threads; with LATE_OLD=<another
-# ssdem-grav> old and new interleaved over LATE_ROUNDS rounds (medians).
+# ssdem-grav> old and new interleaved over LATE_ROUNDS rounds (medians); LATE_SETS="k=v;k=v" adds
+# --set overrides to the new binary's runs (e.g. 'gravity.max_every=1024', or
+# 'gravity.inner_steps="impulse"' for the impulse scheme), LATE_OLD_SETS likewise to the old one's.
 LATE_RUN     ?= $(RUNS)/demo
 LATE_OLD     ?=
 LATE_TIME    ?= 300
 LATE_ROUNDS  ?= 3
 LATE_THREADS ?= 1
+LATE_SETS    ?=
+LATE_OLD_SETS ?=
 .PHONY: nbody-late-bench
 nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere evaluation, phases (LATE_OLD= to compare)
 	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
@@ -205,7 +209,7 @@ nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere
 	mkdir -p $(RUNS)/nbody-late
 	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/late_pile_bench.py $(or $(LATE_OLD),-) $(BIN_NBODY) \
 	  $$(ls $(LATE_RUN)/nbody/snap_*.h5 | tail -n 1) $(RUNS)/nbody-late --time $(LATE_TIME) \
-	  --rounds $(LATE_ROUNDS) --threads $(LATE_THREADS)
+	  --rounds $(LATE_ROUNDS) --threads $(LATE_THREADS) --sets '$(LATE_SETS)' --old-sets '$(LATE_OLD_SETS)'
 
 # nbody-chaos-floor: multi-rate against single-rate stepping on one hand-off (CHAOS_RUN, default
 # the demo: `make -C pipelines demo` first), each also with one position perturbed by 1e-12: M_LR/M_PB
