@@ -275,4 +275,34 @@ void multirate_subset(const ContactSystem& cs, const std::vector<std::uint32_t>&
   }
 }
 
+void take_subset(SubsetCache& c, int tz, const ContactSystem& cs, const std::vector<std::uint32_t>& active,
+                 const std::vector<std::uint8_t>& sync, const std::vector<std::int64_t>& topen, std::int64_t step,
+                 double h, std::vector<std::size_t>& off, ContactSystem::Subset& sub) {
+  if (c.by_tz.size() <= static_cast<std::size_t>(tz)) c.by_tz.resize(static_cast<std::size_t>(tz) + 1);
+  SubsetCache::Entry& e = c.by_tz[static_cast<std::size_t>(tz)];
+  const std::size_t na = active.size();
+  bool same = !e.lent && cs.list_version() == e.version && active == e.active;
+  for (std::size_t r = 0; r < na && same; ++r) same = step - topen[active[r]] == e.steps[r];
+  e.lent = true;
+  if (same) {
+    ++c.reuses;
+    sub.pairs.swap(e.pairs);
+    sub.hpair.swap(e.hpair);
+    return;
+  }
+  ++c.builds;
+  multirate_subset(cs, active, sync, topen, step, h, off, sub);
+  e.version = cs.list_version();
+  e.active = active;
+  e.steps.resize(na);
+  for (std::size_t r = 0; r < na; ++r) e.steps[r] = step - topen[active[r]];
+}
+
+void keep_subset(SubsetCache& c, int tz, ContactSystem::Subset& sub) {
+  SubsetCache::Entry& e = c.by_tz[static_cast<std::size_t>(tz)];
+  e.pairs.swap(sub.pairs);
+  e.hpair.swap(sub.hpair);
+  e.lent = false;
+}
+
 }  // namespace ssdem

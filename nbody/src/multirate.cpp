@@ -187,7 +187,7 @@ void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, s
 
 // Contact forces of the active spheres (each with its own step), accelerations, and the
 // promoted spheres' kick correction.
-void Simulation::multirate_forces() {
+void Simulation::multirate_forces(int tz) {
   const std::size_t n = sp_.size();
   const double h = cfg_.dt;
   const bool extrap = cfg_.extrapolated_predictor;
@@ -210,8 +210,9 @@ void Simulation::multirate_forces() {
     if (uniform) {  // everyone active with one step: the single-rate kernel call
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_, sp_.dissipated.data());
     } else {
-      multirate_subset(*contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
+      take_subset(subsets_, tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
+      keep_subset(subsets_, tz, subset_);
     }
     // bonds of synchronised spheres (both ends always together), each with its spheres' step
     if (bonds_) bonds_->compute_synchronised(sp_, lr_.sync, topen_, step_, h, F_, T_);
@@ -256,7 +257,7 @@ void Simulation::step_multirate() {
   times_.cpu_integrate += cpu_now_() - c0;
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  multirate_forces();
+  multirate_forces(ss.tz);
   times_.contacts += omp_get_wtime() - t0;
   times_.cpu_contacts += cpu_now_() - c0;
   if (sg && ss.closes) {

@@ -100,4 +100,29 @@ void multirate_subset(const ContactSystem& cs, const std::vector<std::uint32_t>&
                       const std::vector<std::uint8_t>& sync, const std::vector<std::int64_t>& topen,
                       std::int64_t step, double h, std::vector<std::size_t>& off, ContactSystem::Subset& sub);
 
+/// The pairs and steps of multirate_subset kept per synchronisation level tz (the coarsest level
+/// synchronised at a base step), with the inputs they were built from: the pair list's version,
+/// the active spheres (= the synchronised ones) and their steps step - topen, of which they are a
+/// function. A remnant at rest repeats the inputs of a tz at every step with that tz (steps with
+/// tz = 2, 3, 4, ... alternate, so one kept subset would never be reused).
+struct SubsetCache {
+  struct Entry {
+    std::uint64_t version = ~std::uint64_t{0};
+    std::vector<std::uint32_t> active;
+    std::vector<std::int64_t> steps;
+    std::vector<std::uint32_t> pairs;
+    std::vector<double> hpair;
+    bool lent = false;  ///< pairs/hpair are in the caller's subset (take_subset without keep_subset yet)
+  };
+  std::vector<Entry> by_tz;
+  std::size_t reuses = 0, builds = 0;
+};
+/// Puts into sub.pairs / sub.hpair the subset of multirate_subset for a step synchronising levels
+/// <= tz: the one kept for tz if it was built from the same inputs, else built anew (results are
+/// identical either way). Give it back with keep_subset after the evaluation.
+void take_subset(SubsetCache& c, int tz, const ContactSystem& cs, const std::vector<std::uint32_t>& active,
+                 const std::vector<std::uint8_t>& sync, const std::vector<std::int64_t>& topen, std::int64_t step,
+                 double h, std::vector<std::size_t>& off, ContactSystem::Subset& sub);
+void keep_subset(SubsetCache& c, int tz, ContactSystem::Subset& sub);
+
 }  // namespace ssdem

@@ -206,7 +206,7 @@ class Simulation {
   // multi-rate (multirate.cpp)
   void setup_multirate(const SimState* st);
   void step_multirate();
-  void multirate_forces();
+  void multirate_forces(int tz);
   /// g's data where spheres on steps shorter than the block hold the field (multi-rate,
   /// self-gravity, gravity.inner_steps = "held"), else null (the block's impulses only).
   const Vec3* held_field(const std::vector<Vec3>& g) const {
@@ -228,6 +228,7 @@ class Simulation {
   std::vector<std::uint32_t> active_;
   std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
   ContactSystem::Subset subset_;
+  SubsetCache subsets_;  ///< subset_'s pairs kept per synchronisation level (take_subset)
   LevelStats lstats_;
 
   SimConfig cfg_;

@@ -65,7 +65,7 @@ void DomainSim::halo_levels(bool assign, int tz) {
   stats_.wall_comm += omp_get_wtime() - t0;
 }
 
-void DomainSim::multirate_forces() {
+void DomainSim::multirate_forces(int tz) {
   const double h = cfg_.dt;
   const std::size_t no = own_active_.size(), na = active_.size();
   tau_own_.resize(no);
@@ -81,8 +81,9 @@ void DomainSim::multirate_forces() {
     subset_.spheres = active_;
     subset_.hsphere.resize(na);
     for (std::size_t r = 0; r < na; ++r) subset_.hsphere[r] = static_cast<double>(step_ - topen_[active_[r]]) * h;
-    multirate_subset(*contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
+    take_subset(subsets_, tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
+    keep_subset(subsets_, tz, subset_);
     times_.contacts += omp_get_wtime() - t0;
   }
   accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, own_active_.data(), no, a_, alpha_);
@@ -149,7 +150,7 @@ void DomainSim::step_multirate() {
   const double tl = omp_get_wtime() - t0;
   times_.levels += tl;
   times_.integrate += tl;
-  multirate_forces();
+  multirate_forces(tz);
   if (sg && ss.closes) {
     if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
     compute_gravity();

@@ -149,7 +149,7 @@ class DomainSim {
   void step_multirate();
   void halo_positions();
   void halo_levels(bool assign, int tz);
-  void multirate_forces();
+  void multirate_forces(int tz);
   /// g's data where spheres on steps shorter than the gravity block hold the field (as
   /// Simulation::held_field), else null.
   const Vec3* held_field(const std::vector<Vec3>& g) const {
@@ -202,6 +202,7 @@ class DomainSim {
   std::vector<std::uint32_t> active_, own_active_;
   std::vector<std::size_t> subset_off_;
   ContactSystem::Subset subset_;
+  SubsetCache subsets_;  ///< subset_'s pairs kept per synchronisation level (take_subset)
   LevelStats lstats_;
   std::int64_t step_ = 0, block_start_ = 0, end_step_ = 0, grav_step_ = -1;
   double time_ = 0.0;
