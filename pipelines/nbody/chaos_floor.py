@@ -1,9 +1,11 @@
 """Multi-rate accuracy against the chaos floor (nbody-chaos-floor): the paper-method reaccumulation
 of one hand-off (RUN/spheres.h5, e.g. the demo's) run four ways with the pipeline's scene
-(reaccumulate.toml): multi-rate (the default), single-rate at the base step (time.multirate =
-false, same gravity cadence control), and each again with one sphere's position perturbed by
-1e-12 relative, and multi-rate with gravity blocks of at most 32 base steps (the pipeline allows
-256: the breathing of a resting pile, nbody/README.md). ssdem-analyse gives M_LR/M_PB and beta at 1 h and at the end; the multi-rate vs
+(reaccumulate.toml): multi-rate (the default: self-gravity held through blocks of up to 4096 base
+steps), single-rate at the base step (time.multirate = false, RESPA impulses with blocks of up to
+256 steps, the longest that keeps a resting pile bound), and each again with one sphere's position
+perturbed by 1e-12 relative, and multi-rate with the impulses (gravity.inner_steps = "impulse")
+in blocks of at most 256 (the pipeline before the held field) and 32 base steps (no breathing of
+a resting pile, nbody/README.md). ssdem-analyse gives M_LR/M_PB and beta at 1 h and at the end; the multi-rate vs
 single-rate difference is compared with the chaos floor (each method against its own perturbed run).
 
   chaos_floor.py NBODY ANALYSE RUN OUTDIR [--end 16200] [--threads 2] [--target-radius R]
@@ -76,10 +78,12 @@ def main():
     os.makedirs(a.outdir, exist_ok=True)
     base = os.path.join(a.run, "spheres.h5")
     pert = perturbed_copy(base, os.path.join(a.outdir, "spheres_perturbed.h5"))
-    single = ["time.multirate=false"]
+    single = ["time.multirate=false", "gravity.max_every=256"]
+    impulse = ['gravity.inner_steps="impulse"']
     cases = [("multi-rate", base, []), ("multi-rate, perturbed", pert, []),
              ("single rate", base, single), ("single rate, perturbed", pert, single),
-             ("multi-rate, gravity blocks <= 32 dt", base, ["gravity.max_every=32"])]
+             ("multi-rate, impulses, gravity blocks <= 256 dt", base, impulse + ["gravity.max_every=256"]),
+             ("multi-rate, impulses, gravity blocks <= 32 dt", base, impulse + ["gravity.max_every=32"])]
     res = {}
     for name, sph, extra in cases:
         d = os.path.join(a.outdir, name.replace(", ", "_").replace(" ", "_"))
@@ -100,7 +104,8 @@ def main():
     for label, x, y in (("multi-rate vs single rate", "multi-rate", "single rate"),
                         ("chaos floor, multi-rate", "multi-rate", "multi-rate, perturbed"),
                         ("chaos floor, single rate", "single rate", "single rate, perturbed"),
-                        ("gravity blocks 256 vs 32 dt", "multi-rate", "multi-rate, gravity blocks <= 32 dt")):
+                        ("held vs impulses <= 32 dt", "multi-rate", "multi-rate, impulses, gravity blocks <= 32 dt"),
+                        ("held vs impulses <= 256 dt", "multi-rate", "multi-rate, impulses, gravity blocks <= 256 dt")):
         lines.append(f"| {label} | {d(x, y, 'h1', 0):.5f} | {d(x, y, 'h1', 1):.4f} | {d(x, y, 'end', 0):.5f} | "
                      f"{d(x, y, 'end', 1):.4f} |")
     text = "\n".join(lines) + "\n"
