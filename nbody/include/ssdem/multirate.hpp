@@ -5,7 +5,8 @@
 /// Lake 1997, astro-ph/9710043 §3; Stadel 2001, PhD thesis §3.3; second-order KDK on every
 /// level). The base step h is time.dt (the dt rule: the shortest contact / N). A sphere on level
 /// l steps with h_l = 2^l h (level 0 = the base step; pkdgrav's rung r_max - l). Self-gravity
-/// keeps its impulse-RESPA outer block (simulation.hpp) of K = 2^L base steps (block lengths are
+/// keeps its RESPA outer block (simulation.hpp; how the field enters spheres on shorter steps:
+/// "Self-gravity inside a block" below) of K = 2^L base steps (block lengths are
 /// rounded down to powers of two), levels run 0 .. L inside it, so a sphere with no contact in
 /// reach takes one inner step per gravity block ("long steps sized by gravity": the block length
 /// is the error-controlled gravity cadence). Within a block, at base substep s (0 <= s < K):
