@@ -187,7 +187,7 @@ void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, s
 
 // Contact forces of the active spheres (each with its own step), accelerations, and the
 // promoted spheres' kick correction.
-void Simulation::multirate_forces(int tz) {
+void Simulation::multirate_forces(const Substep& ss) {
   const std::size_t n = sp_.size();
   const double h = cfg_.dt;
   const bool extrap = cfg_.extrapolated_predictor;
@@ -201,7 +201,8 @@ void Simulation::multirate_forces(int tz) {
   subset_.spheres = active_;
   subset_.hsphere.resize(na);
   predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_, lr_.promoted},
-                 active_.data(), na, step_, h, extrap, subset_.hsphere.data(), held_field(ag_), 0.5 * h * block_);
+                 active_.data(), na, step_, h, extrap, subset_.hsphere.data(), held_field(cfg_, ag_, sp_.size()),
+                 ss.hk);
   count_active(lstats_, active_.data(), na, step_, topen_, subset_.hsphere.data());
   bool uniform = na == n;
   const double tau0 = na > 0 ? subset_.hsphere[0] : 0.0;
@@ -210,9 +211,9 @@ void Simulation::multirate_forces(int tz) {
     if (uniform) {  // everyone active with one step: the single-rate kernel call
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, tau0, F_, T_, sp_.dissipated.data());
     } else {
-      take_subset(subsets_, tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
+      take_subset(subsets_, ss.tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
       cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
-      keep_subset(subsets_, tz, subset_);
+      keep_subset(subsets_, ss.tz, subset_);
     }
     // bonds of synchronised spheres (both ends always together), each with its spheres' step
     if (bonds_) bonds_->compute_synchronised(sp_, lr_.sync, topen_, step_, h, F_, T_);
@@ -228,7 +229,8 @@ void Simulation::step_multirate() {
   double t0 = omp_get_wtime(), c0 = cpu_now_();
   if (ss.opens) lr_.cap(ss.L);
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
-  open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin, held_field(ag_));
+  open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin,
+                 held_field(cfg_, ag_, sp_.size()));
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;
@@ -257,7 +259,7 @@ void Simulation::step_multirate() {
   times_.cpu_integrate += cpu_now_() - c0;
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  multirate_forces(ss.tz);
+  multirate_forces(ss);
   times_.contacts += omp_get_wtime() - t0;
   times_.cpu_contacts += cpu_now_() - c0;
   if (sg && ss.closes) {
@@ -268,7 +270,7 @@ void Simulation::step_multirate() {
   c0 = cpu_now_();
   // the field held through this block: the previous evaluation once the block's end evaluated anew
   close_kicks(kicks, active_.data(), active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin,
-              held_field(sg && ss.closes ? ag_old_ : ag_));
+              held_field(cfg_, sg && ss.closes ? ag_old_ : ag_, sp_.size()));
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now_() - c0;
   if (ss.closes) {

@@ -86,6 +86,13 @@ struct SimConfig {
   double pair_steps_per_contact = 30;  ///< N of the per-pair level rule (time.steps_per_contact)
 };
 
+/// g's data where multi-rate spheres on steps shorter than the gravity block hold the field
+/// (multi-rate, self-gravity, gravity.inner_steps = "held"; g holds the n local spheres), else null
+/// (the block's impulses only): the gheld argument of the kicks (multirate.hpp).
+inline const Vec3* held_field(const SimConfig& c, const std::vector<Vec3>& g, std::size_t n) {
+  return c.multirate && c.self_gravity && c.gravity_held && g.size() == n ? g.data() : nullptr;
+}
+
 /// The complete dynamic state (what a checkpoint holds): restart from it is bit-identical.
 struct SimState {
   Spheres sp;
@@ -206,12 +213,7 @@ class Simulation {
   // multi-rate (multirate.cpp)
   void setup_multirate(const SimState* st);
   void step_multirate();
-  void multirate_forces(int tz);
-  /// g's data where spheres on steps shorter than the block hold the field (multi-rate,
-  /// self-gravity, gravity.inner_steps = "held"), else null (the block's impulses only).
-  const Vec3* held_field(const std::vector<Vec3>& g) const {
-    return cfg_.multirate && cfg_.self_gravity && cfg_.gravity_held && g.size() == sp_.size() ? g.data() : nullptr;
-  }
+  void multirate_forces(const Substep& ss);
   // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
   struct BondLevelTerms;
   void setup_bond_levels();

@@ -65,14 +65,14 @@ void DomainSim::halo_levels(bool assign, int tz) {
   stats_.wall_comm += omp_get_wtime() - t0;
 }
 
-void DomainSim::multirate_forces(int tz) {
+void DomainSim::multirate_forces(const Substep& ss) {
   const double h = cfg_.dt;
   const std::size_t no = own_active_.size(), na = active_.size();
   tau_own_.resize(no);
   predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_,
                               lr_.promoted},
-                 own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data(), held_field(ag_),
-                 0.5 * h * block_);
+                 own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data(),
+                 held_field(cfg_, ag_, sp_.size()), ss.hk);
   count_active(lstats_, own_active_.data(), no, step_, topen_, tau_own_.data());
   if (cfg_.extrapolated_predictor) has_prev_ = true;
   if (contacts_) {
@@ -81,9 +81,9 @@ void DomainSim::multirate_forces(int tz) {
     subset_.spheres = active_;
     subset_.hsphere.resize(na);
     for (std::size_t r = 0; r < na; ++r) subset_.hsphere[r] = static_cast<double>(step_ - topen_[active_[r]]) * h;
-    take_subset(subsets_, tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
+    take_subset(subsets_, ss.tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
-    keep_subset(subsets_, tz, subset_);
+    keep_subset(subsets_, ss.tz, subset_);
     times_.contacts += omp_get_wtime() - t0;
   }
   accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, own_active_.data(), no, a_, alpha_);
@@ -96,7 +96,8 @@ void DomainSim::step_multirate() {
   double t0 = omp_get_wtime();
   if (ss.opens) lr_.cap(ss.L);  // (ghosts too: the same rule on the same level)
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
-  open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin, held_field(ag_));
+  open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin,
+                 held_field(cfg_, ag_, sp_.size()));
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;
@@ -150,14 +151,14 @@ void DomainSim::step_multirate() {
   const double tl = omp_get_wtime() - t0;
   times_.levels += tl;
   times_.integrate += tl;
-  multirate_forces(tz);
+  multirate_forces(ss);
   if (sg && ss.closes) {
     if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
     compute_gravity();
   }
   t0 = omp_get_wtime();
   close_kicks(kicks, own_active_.data(), own_active_.size(), step_, ss.h, ss.hk, sg && ss.closes, spin,
-              held_field(sg && ss.closes ? ag_old_ : ag_));
+              held_field(cfg_, sg && ss.closes ? ag_old_ : ag_, sp_.size()));
   times_.integrate += omp_get_wtime() - t0;
   if (ss.closes) close_gravity_block();
   ++times_.steps;

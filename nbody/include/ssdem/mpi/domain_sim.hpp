@@ -149,12 +149,7 @@ class DomainSim {
   void step_multirate();
   void halo_positions();
   void halo_levels(bool assign, int tz);
-  void multirate_forces(int tz);
-  /// g's data where spheres on steps shorter than the gravity block hold the field (as
-  /// Simulation::held_field), else null.
-  const Vec3* held_field(const std::vector<Vec3>& g) const {
-    return cfg_.multirate && cfg_.self_gravity && cfg_.gravity_held && g.size() == sp_.size() ? g.data() : nullptr;
-  }
+  void multirate_forces(const Substep& ss);
   double exchange_distance() const { return (cfg_.multirate ? 0.25 : 0.5) * skin_; }
   bool need_exchange();  ///< collective (domain_movers.cpp)
   std::vector<HistoryRecord> owned_history() const;
