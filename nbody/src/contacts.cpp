@@ -85,7 +85,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   T.resize(n);
   std::size_t ncont = 0;
   Worst worst;
-  const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pF_.data(), pTp_.data(), pTn_.data(), pD_.data()};
+  const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pres_.data()};
 #pragma omp parallel if (P >= kOmpMin)
   {
     Worst lw;
@@ -105,7 +105,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const std::uint32_t i = pi_[p], j = pj_[p];
       const double reach = sp.s[i] + sp.s[j];
       if (!ph_.active[p] && (sp.x[j] - sp.x[i]).squaredNorm() >= reach * reach) {
-        pD_[p] = 0.0;
+        pres_[p].D = 0.0;  // (its force and torques are zero: not in contact)
         continue;
       }
       rows[nl] = p;
@@ -127,6 +127,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   std::size_t nwc = 0;
   Worst wworst;
   const std::size_t ns = sub ? sub->spheres.size() : n;
+  const PairForces* pres = pres_.data();
 #pragma omp parallel if (ns >= kOmpMin)
   {
     Worst lw;
@@ -137,20 +138,19 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const double h = sub ? sub->hsphere[r] : h0;
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
       double dk = 0.0;
+      // (a pair not in contact holds +0 force and torques: adding them leaves f and t bit for bit
+      // as skipping them would, since a sum started at +0 is never -0)
       for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
-        const std::uint32_t p = jpair_[q];
-        if (ph_.active[p]) {
-          f -= pF_[p];
-          t += pTn_[p];
-        }
-        dk += 0.5 * pD_[p];
+        const PairForces& r = pres[jpair_[q]];
+        f -= r.F;
+        t += r.Tn;
+        dk += 0.5 * r.D;
       }
       for (std::uint32_t p = irow_[k]; p < irow_[k + 1]; ++p) {
-        if (ph_.active[p]) {
-          f += pF_[p];
-          t += pTp_[p];
-        }
-        dk += 0.5 * pD_[p];
+        const PairForces& r = pres[p];
+        f += r.F;
+        t += r.Tp;
+        dk += 0.5 * r.D;
       }
       for (std::size_t w = 0; w < nw; ++w) {
         const Plane& pl = walls_[w];

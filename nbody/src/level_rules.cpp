@@ -11,6 +11,8 @@
 #include <iterator>
 #include <vector>
 
+#include "byte_flags.hpp"
+
 namespace ssdem {
 namespace {
 constexpr std::size_t kOmpMin = 2048;  // below this many spheres or pairs a loop runs serially
@@ -34,14 +36,6 @@ void LevelRules::cap(int L) {
       level[i] = static_cast<std::uint8_t>(L);
       lflag[i] = 1;
     }
-}
-
-void LevelRules::begin(int tz) {
-  const std::size_t n = level.size();
-  for (std::size_t i = 0; i < n; ++i) {
-    sync[i] = level[i] <= tz ? 1 : 0;
-    promoted[i] = 0;
-  }
 }
 
 int LevelRules::pair_level(const Spheres& sp, std::uint32_t i, std::uint32_t j) const {
@@ -69,12 +63,22 @@ void LevelRules::update_pair_levels(const Spheres& sp, const ContactSystem& cs) 
   plev_.resize(P);
 #pragma omp parallel for schedule(static) if (P >= kOmpMin)
   for (std::size_t p = 0; p < P; ++p) plev_[p] = static_cast<std::uint8_t>(pair_level(sp, pi[p], pj[p]));
+  // per sphere the lowest l_c of its listed pairs: assign() skips a sphere already at or below it
+  const std::size_t n = level.size();
+  pmin_.assign(n, kNone);
+  for (std::size_t p = 0; p < P; ++p) {
+    pmin_[pi[p]] = std::min(pmin_[pi[p]], plev_[p]);
+    pmin_[pj[p]] = std::min(pmin_[pj[p]], plev_[p]);
+  }
   plev_version_ = cs.list_version();
 }
 
-// New levels of the spheres synchronised now (sync = 1): min(L, tz, l_c of near pairs/walls).
+// The start of a level decision (sync = level <= tz, nothing promoted) and the new levels of the
+// spheres synchronised now: min(L, tz, l_c of near pairs/walls), in one pass.
 // Per sphere over its own pairs (both CSR directions): parallel, each sphere writes its own level.
-// The distance test runs only for a pair whose l_c would lower the level.
+// The distance test runs only for a pair whose l_c would lower the level, and the pairs are not
+// visited at all once the level is at the lowest l_c of the sphere's pairs (a remnant at rest:
+// every sphere already on its pairs' level).
 void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int L, const BondTerms* bonds,
                         const std::uint8_t* mask) {
   const std::size_t n = level.size();
@@ -87,24 +91,70 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
   const auto& rj = ct ? cs->row_j() : none;
   const auto& jp = ct ? cs->jpair() : none;
   const bool walls = ct && !cs->walls().empty();
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t k = 0; k < n; ++k) {
-    if (!sync[k] || (mask && !mask[k])) continue;
-    const auto i = static_cast<std::uint32_t>(k);
-    int c = top;
-    if (ct && c > 0) {
-      for (std::uint32_t p = ri[i]; p < ri[i + 1] && c > 0; ++p)
-        if (plev_[p] < c && near_pair(sp, i, pj[p])) c = plev_[p];
-      for (std::uint32_t q = rj[i]; q < rj[i + 1] && c > 0; ++q)
-        if (plev_[jp[q]] < c && near_pair(sp, pi[jp[q]], i)) c = plev_[jp[q]];
-      if (walls && c > 0) c = std::min(c, wall_level(sp, *cs, i));
-      if (bonds && c > 0) c = bonds->cap(i, c);
+  promo_.clear();
+  // (data pointers taken once: the byte stores below may alias anything, so the compiler would
+  // reload every vector's pointer after each)
+  std::uint8_t* lev = level.data();
+  std::uint8_t* syn = sync.data();
+  std::uint8_t* pro = promoted.data();
+  std::uint8_t* flag = lflag.data();
+  const std::uint8_t* pmin = pmin_.data();
+  const std::uint8_t* plev = plev_.data();
+  const std::uint32_t* pid = pi.data();
+  const std::uint32_t* pjd = pj.data();
+  const std::uint32_t* rid = ri.data();
+  const std::uint32_t* rjd = rj.data();
+  const std::uint32_t* jpd = jp.data();
+  const int nt = n >= kOmpMin ? omp_get_max_threads() : 1;
+  synced_by_thread_.resize(static_cast<std::size_t>(std::max(nt, 1)));
+  for (auto& v : synced_by_thread_) v.clear();
+#pragma omp parallel num_threads(nt)
+  {
+    // each thread its static block of spheres (consecutive, ascending with the thread number, so
+    // the blocks' synchronised lists joined in thread order are ascending); each fills a vector of
+    // its own, its slot's storage swapped in and out, so no two threads write one cache line
+    std::size_t b, e;
+    static_block(n, omp_get_thread_num(), omp_get_num_threads(), b, e);
+    std::vector<std::uint32_t>& slot = synced_by_thread_[static_cast<std::size_t>(omp_get_thread_num())];
+    std::vector<std::uint32_t> mine;
+    mine.swap(slot);
+    for (std::size_t k = b; k < e; ++k) {  // (branch-free: vectorised)
+      syn[k] = lev[k] <= tz ? 1 : 0;
+      pro[k] = 0;
     }
-    if (level[k] != c) {
-      level[k] = static_cast<std::uint8_t>(c);
-      lflag[k] = 1;
+    append_at_most(lev, b, e, tz, mine);
+    for (const std::uint32_t i : mine) {
+      if (mask && !mask[i]) continue;
+      int c = top;
+      if (ct && c > 0) {
+        const int floor = pmin[i];
+        for (std::uint32_t p = rid[i]; p < rid[i + 1] && c > floor; ++p)
+          if (plev[p] < c && near_pair(sp, i, pjd[p])) c = plev[p];
+        for (std::uint32_t q = rjd[i]; q < rjd[i + 1] && c > floor; ++q)
+          if (plev[jpd[q]] < c && near_pair(sp, pid[jpd[q]], i)) c = plev[jpd[q]];
+        if (walls && c > 0) c = std::min(c, wall_level(sp, *cs, i));
+        if (bonds && c > 0) c = bonds->cap(i, c);
+      }
+      if (lev[i] != c) {
+        lev[i] = static_cast<std::uint8_t>(c);
+        flag[i] = 1;
+      }
     }
+    slot.swap(mine);
   }
+  synced_.clear();
+  for (const auto& v : synced_by_thread_) synced_.insert(synced_.end(), v.begin(), v.end());
+}
+
+void LevelRules::active(std::vector<std::uint32_t>& out) {
+  out.clear();
+  if (promo_.empty()) {
+    out = synced_;
+    return;
+  }
+  std::sort(promo_.begin(), promo_.end());
+  out.reserve(synced_.size() + promo_.size());
+  std::merge(synced_.begin(), synced_.end(), promo_.begin(), promo_.end(), std::back_inserter(out));
 }
 
 bool LevelRules::lower(std::uint32_t i, int target, int tz) {
@@ -116,6 +166,7 @@ bool LevelRules::lower(std::uint32_t i, int target, int tz) {
     level[i] = static_cast<std::uint8_t>(std::min(target, tz));
     sync[i] = 1;
     promoted[i] = 1;
+    promo_.push_back(i);
     ++promotions;
   }
   work_.push_back(i);
@@ -180,12 +231,12 @@ void LevelRules::equalise(const Spheres& sp, const ContactSystem& cs, int tz, Bo
     unsettled_version_ = cs.list_version();
   } else if (nflag > 0) {  // (no level changed: the unsettled set is the same)
     fresh_.clear();
-    for (std::uint32_t i = 0; i < n; ++i) {
-      if (!lflag[i]) continue;
+    for_each_flagged(lflag.data(), n, [&](std::size_t k) {
+      const auto i = static_cast<std::uint32_t>(k);
       lflag[i] = 0;
       for (std::uint32_t p = ri[i]; p < ri[i + 1]; ++p) fresh_.push_back(p);
       for (std::uint32_t q = rj[i]; q < rj[i + 1]; ++q) fresh_.push_back(jp[q]);
-    }
+    });
     std::sort(fresh_.begin(), fresh_.end());
     cand_.clear();
     std::merge(unsettled_.begin(), unsettled_.end(), fresh_.begin(), fresh_.end(), std::back_inserter(cand_));

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <sstream>
 
+#include "byte_flags.hpp"
 #include "common/status.hpp"
 #include "ssdem/simulation.hpp"
 
@@ -124,29 +125,50 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
   const Vec3* ag = k.ag.data();
   std::int64_t* topen = k.topen.data();
   double* hopen = k.hopen.data();
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::int64_t len = std::int64_t{1} << level[i];
-    const bool opens = (s0 & (len - 1)) == 0;  // synchronised now
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 arrays are read as flat arrays of doubles");
+  // opening kick of sphere i (synchronised at s0)
+  auto open = [&](std::size_t i) {
     if (mask && !mask[i]) {
-      if (opens) topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
-      continue;
+      topen[i] = step;  // a ghost: its opening step only (its pairs' steps)
+      return;
     }
-    if (opens) {  // opening kick
-      const double ho = 0.5 * h * static_cast<double>(len);
-      hopen[i] = ho;
-      topen[i] = step;
-      if (gheld && ho != hk) {  // a step shorter than the block: the block's field held
-        v[i] += ho * Vec3(a[i] + gheld[i]);
-      } else {
-        if (gravity_kick) v[i] += hk * ag[i];
-        v[i] += ho * a[i];
-      }
-      if (spin) w[i] += ho * alpha[i];
-    } else if (gravity_kick) {
-      v[i] += hk * ag[i];
+    const double ho = 0.5 * h * static_cast<double>(std::int64_t{1} << level[i]);
+    hopen[i] = ho;
+    topen[i] = step;
+    if (gheld && ho != hk) {  // a step shorter than the block: the block's field held
+      v[i] += ho * Vec3(a[i] + gheld[i]);
+    } else {
+      if (gravity_kick) v[i] += hk * ag[i];
+      v[i] += ho * a[i];
     }
-    x[i] += h * v[i];
+    if (spin) w[i] += ho * alpha[i];
+  };
+  const int nt = n >= kOmpMin ? omp_get_max_threads() : 1;
+#pragma omp parallel num_threads(nt)
+  {
+    // each thread its static block of spheres: kicks, then the drift of the same spheres
+    std::size_t b, e;
+    static_block(n, omp_get_thread_num(), omp_get_num_threads(), b, e);
+    if (s0 == 0) {  // a block opens: every sphere opens (levels <= L)
+      for (std::size_t i = b; i < e; ++i) open(i);
+    } else {  // the spheres on levels l with 2^l | s0, listed without a branch per sphere
+      thread_local std::vector<std::uint32_t> opening;
+      opening.clear();
+      append_at_most(level, b, e, __builtin_ctzll(static_cast<std::uint64_t>(s0)), opening);
+      if (gravity_kick)  // (not at s0 != 0 in either integrator; kept for the contract)
+        for (std::size_t i = b; i < e; ++i)
+          if ((!mask || mask[i]) && (s0 & ((std::int64_t{1} << level[i]) - 1)) != 0) v[i] += hk * ag[i];
+      for (std::uint32_t i : opening) open(i);
+    }
+    if (mask) {  // a ghost does not drift
+      for (std::size_t i = b; i < e; ++i)
+        if (mask[i]) x[i] += h * v[i];
+    } else {  // one branch-free loop over the components (vectorised; the same product and sum
+              // per component as x[i] += h v[i])
+      double* xf = x->data();
+      const double* vf = v->data();
+      for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
+    }
   }
 }
 
@@ -175,13 +197,19 @@ void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t n
 }
 
 void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
-                  const std::vector<std::int64_t>& topen, const double* tau) {
+                  const std::vector<std::int64_t>& topen, double h) {
+  // per level the sum of the integer step counts k (tau = k h): exact in any order, so the sum
+  // runs in parallel and the result does not depend on the thread count
+  std::int64_t ks[kMaxLevel + 1] = {};
+  const std::int64_t* to = topen.data();
+#pragma omp parallel for schedule(static) reduction(+ : ks[:kMaxLevel + 1]) if (na >= kOmpMin)
   for (std::size_t r = 0; r < na; ++r) {
-    // level of the step: floor(log2(tau / h)) of the integer step count (tau = k h exactly for
-    // k a power of two, so this is ilogb(tau / h))
-    const auto k = static_cast<std::uint64_t>(step - topen[active[r]]);
-    ls.sphere_time[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += tau[r];
+    // level of the step: floor(log2(k)) (k is a power of two but for a promoted sphere's step)
+    const auto k = static_cast<std::uint64_t>(step - to[active[r]]);
+    ks[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += static_cast<std::int64_t>(k);
   }
+  for (int l = 0; l <= kMaxLevel; ++l)
+    if (ks[l]) ls.sphere_time[static_cast<std::size_t>(l)] += static_cast<double>(ks[l]) * h;
   ls.evaluations += static_cast<std::int64_t>(na);
 }
 
@@ -203,7 +231,7 @@ void Simulation::multirate_forces(const Substep& ss) {
   predict_active(ActiveArrays{sp_, a_, alpha_, vpred_, wpred_, a_prev_, alpha_prev_, topen_, hopen_, tau_prev_, lr_.promoted},
                  active_.data(), na, step_, h, extrap, subset_.hsphere.data(), held_field(cfg_, ag_, sp_.size()),
                  ss.hk);
-  count_active(lstats_, active_.data(), na, step_, topen_, subset_.hsphere.data());
+  count_active(lstats_, active_.data(), na, step_, topen_, h);
   bool uniform = na == n;
   const double tau0 = na > 0 ? subset_.hsphere[0] : 0.0;
   for (std::size_t r = 0; r < na && uniform; ++r) uniform = subset_.hsphere[r] == tau0;
@@ -244,15 +272,12 @@ void Simulation::step_multirate() {
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  lr_.begin(ss.tz);
   if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
   if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
   lr_.assign(sp_, contacts_.get(), ss.tz, ss.L, bterms_.get());
   if (contacts_) lr_.equalise(sp_, *contacts_, ss.tz, bterms_.get());
   lstats_.promotions = lr_.promotions;
-  active_.clear();
-  for (std::size_t i = 0; i < n; ++i)
-    if (lr_.sync[i]) active_.push_back(static_cast<std::uint32_t>(i));
+  lr_.active(active_);
   const double tl = omp_get_wtime() - t0;
   times_.levels += tl;
   times_.integrate += tl;
@@ -263,6 +288,7 @@ void Simulation::step_multirate() {
   times_.contacts += omp_get_wtime() - t0;
   times_.cpu_contacts += cpu_now_() - c0;
   if (sg && ss.closes) {
+    check_state();  // every sphere, before the tree sees the positions (see the end of the step)
     if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
     compute_gravity(false);
   }
@@ -279,7 +305,12 @@ void Simulation::step_multirate() {
     close_gravity_block();
   }
   ++times_.steps;
-  check_state();
+  // The spheres evaluated now: a non-finite value enters only through a force (a, alpha, checked
+  // where evaluated) or the field (evaluated at a block's close, where every sphere is active), and
+  // a sphere not evaluated now only drifts with, and is kicked by, values checked before. (A finite
+  // state overflowing to infinity in a drift is caught at the sphere's next evaluation, and at the
+  // latest before the next field evaluation, above.)
+  check_state(&active_);
 }
 
 }  // namespace ssdem

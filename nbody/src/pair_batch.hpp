@@ -26,15 +26,13 @@ struct Arrays {
   const std::uint32_t* pi;
   const std::uint32_t* pj;
   ContactHistory& hist;
-  Vec3* F;
-  Vec3* Tp;
-  Vec3* Tn;
-  double* D;  ///< energy dissipated over the pair's step (0 without contact)
+  PairForces* out;  ///< per pair; D = energy dissipated over the pair's step (0 without contact)
 };
 
 /// Evaluates the pairs rows[0..n) (n <= kLanes) with steps h[0..n); calls on_contact(p, overlap /
-/// smaller radius) for each pair p in contact. Pairs not in contact get D = the energy their
-/// history held if they were in contact (0 otherwise) and keep their history row.
+/// smaller radius) for each pair p in contact. Pairs not in contact get zero force and torques,
+/// D = the energy their history held if they were in contact (0 otherwise), and keep their
+/// history row.
 template <unsigned PARTS, class OnContact>
 inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32_t* rows, const double* h, int n,
                       const OnContact& on_contact) {
@@ -78,13 +76,16 @@ inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32
   for (int l = 0; l < n; ++l) {
     const std::uint32_t p = prow[l];
     a.hist.active[p] = con[l] ? 1 : 0;
-    a.D[p] = o.diss[l];
+    PairForces& r = a.out[p];
+    r.D = o.diss[l];
     if (con[l]) {
-      a.F[p] = o.F.at(l);
-      a.Tp[p] = o.Tp.at(l);
-      a.Tn[p] = o.Tn.at(l);
+      r.F = o.F.at(l);
+      r.Tp = o.Tp.at(l);
+      r.Tn = o.Tn.at(l);
       if constexpr (HIST) store_hist<PARTS>(cols, p, hl, l);
       on_contact(p, frac[l]);
+    } else {
+      r.F = r.Tp = r.Tn = Vec3::Zero();
     }
   }
 }

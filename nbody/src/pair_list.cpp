@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "byte_flags.hpp"
 #include "common/status.hpp"
 
 namespace ssdem {
@@ -124,11 +125,12 @@ bool ContactSystem::local_update(const Spheres& sp) {
   moved_.clear();
   if (n >= kOmpMin) {
     mark_.resize(n);
+    const Vec3* x = sp.x.data();  // (taken once: the byte stores may alias the vectors)
+    const Vec3* xr = xref_.data();
+    std::uint8_t* mk = mark_.data();
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i)
-      mark_[i] = (sp.x[i] - xref_[i]).squaredNorm() > lim2 ? 1 : 0;
-    for (std::size_t i = 0; i < n; ++i)
-      if (mark_[i]) moved_.push_back(static_cast<std::uint32_t>(i));
+    for (std::size_t i = 0; i < n; ++i) mk[i] = (x[i] - xr[i]).squaredNorm() > lim2 ? 1 : 0;
+    for_each_flagged(mark_.data(), n, [&](std::size_t i) { moved_.push_back(static_cast<std::uint32_t>(i)); });
   } else {
     for (std::size_t i = 0; i < n; ++i)
       if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) moved_.push_back(static_cast<std::uint32_t>(i));
@@ -372,10 +374,9 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   pj_.swap(npj);
   ph_.swap(nh);
   ++version_;
-  pF_.resize(P);
-  pTp_.resize(P);
-  pTn_.resize(P);
-  pD_.resize(P);
+  // (zero: a pair not in contact contributes nothing; one in contact is evaluated before its
+  // spheres sum it, since every pair of a summed sphere is evaluated)
+  pres_.assign(P, PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0});
   // CSR of pairs by their j member (ascending pair index = ascending partner i).
   jrow_.assign(n + 1, 0);
   for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];

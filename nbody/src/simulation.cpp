@@ -249,21 +249,31 @@ void Simulation::close_gravity_block() {
   if (cfg_.multirate) block_ = floor_pow2(block_);  // levels need power-of-two blocks
 }
 
-void Simulation::check_state() {
+void Simulation::check_state(const std::vector<std::uint32_t>* only) {
   const std::size_t n = sp_.size();
+  const std::size_t m = only ? only->size() : n;
+  const std::uint32_t* idx = only ? only->data() : nullptr;
   // 0 * (sum of the values) is 0 unless one is NaN or infinite (no branch per sphere)
   double z = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : z) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i)
+#pragma omp parallel for schedule(static) reduction(+ : z) if (m >= kOmpMin)
+  for (std::size_t r = 0; r < m; ++r) {
+    const std::size_t i = idx ? idx[r] : r;
     z += 0.0 * (sp_.x[i] + sp_.v[i] + a_[i] + sp_.w[i] + ag_[i]).sum();
+  }
   if (!(z == 0.0)) {
-    for (std::size_t i = 0; i < n; ++i)
-      if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() ||
-          !sp_.w[i].allFinite()) {
-        std::ostringstream os;
-        os << "non-finite state of sphere id " << sp_.id[i] << " at step " << step_;
-        throw common::NumericalError(os.str());
-      }
+    // the sphere named: the first with a non-finite position if any (where a non-finite velocity
+    // went first, before the field or the contacts spread it), else the first non-finite one
+    auto bad = [&](std::size_t i, bool pos_only) {
+      return pos_only ? !sp_.x[i].allFinite()
+                      : !sp_.v[i].allFinite() || !a_[i].allFinite() || !sp_.w[i].allFinite() || !ag_[i].allFinite();
+    };
+    for (const bool pos_only : {true, false})
+      for (std::size_t i = 0; i < n; ++i)
+        if (bad(i, pos_only)) {
+          std::ostringstream os;
+          os << "non-finite state of sphere id " << sp_.id[i] << " at step " << step_;
+          throw common::NumericalError(os.str());
+        }
   }
   if (contacts_ && cstats_.max_overlap_frac > cfg_.max_overlap_frac) {
     std::ostringstream os;

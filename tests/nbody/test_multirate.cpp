@@ -4,14 +4,17 @@
 /// the base level and a promotion in space is exact), a heavy pair on a coarse level rebounds
 /// with the restitution of its own step count, contacts create no energy, restarts (also
 /// through a checkpoint file) and thread counts do not change results; a cohesive pair on level
-/// 2 pulls off at the cohesive threshold like single rate at its step.
+/// 2 pulls off at the cohesive threshold like single rate at its step; a non-finite state is caught
+/// by the sphere's next step.
 #include <gtest/gtest.h>
 #include <omp.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
+#include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/io.hpp"
@@ -260,6 +263,34 @@ TEST(Multirate, ContactsCreateNoEnergy) {
   EXPECT_LT(worst, 1e-6);
   EXPECT_LT(sim.diagnostics().total(), 0.95 * E0);  // and contacts did dissipate
   EXPECT_GT(coarse_share(sim), 0.01);
+}
+
+TEST(Multirate, NonFiniteStateCaughtByTheSpheresNextStep) {
+  // The state check of a multi-rate step covers the spheres evaluated at it (and every sphere
+  // before a field evaluation): a non-finite velocity of a sphere between its steps is caught at
+  // its next synchronisation, at the latest one gravity block (16 base steps) later, and named.
+  for (const bool lone : {true, false}) {
+    Scene a = lone_into_pile(1.0, true);
+    Simulation sim(a.sp, a.cfg);
+    for (int k = 0; k < 16 * 4 + 3; ++k) sim.step();  // (mid-block)
+    const std::size_t i = lone ? a.sp.size() - 1 : 0;
+    const int l = sim.levels()[i];
+    if (lone) {
+      ASSERT_GE(l, 2);  // on a coarse step, not synchronised every base step
+    }
+    sim.spheres_mut().v[i].y() = NAN;
+    int steps = 0;
+    std::string what;
+    try {
+      for (; steps < 64; ++steps) sim.step();
+    } catch (const common::NumericalError& e) {
+      what = e.what();
+    }
+    std::printf("non-finite velocity of sphere %zu (level %d): caught after %d base step(s): %s\n", i, l,
+                steps + 1, what.c_str());
+    EXPECT_LE(steps + 1, 1 << l);  // by its next synchronisation
+    EXPECT_NE(what.find("sphere id " + std::to_string(a.sp.id[i])), std::string::npos) << what;
+  }
 }
 
 TEST(Multirate, RestartThroughCheckpointIsBitIdentical) {

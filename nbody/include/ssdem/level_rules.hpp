@@ -52,13 +52,15 @@ class LevelRules {
 
   /// At the opening of a gravity block of 2^L base steps: levels above L become L.
   void cap(int L);
-  /// Start of a level decision at base substep s (tz = trailing level of s+1): sync = level <= tz.
-  void begin(int tz);
   /// l_c of every listed pair (recomputed only when the list changed).
   void update_pair_levels(const Spheres& sp, const ContactSystem& cs);
-  /// New levels of the synchronised spheres (only where mask[i] != 0 when a mask is given).
+  /// Start of a level decision at base substep s (tz = trailing level of s+1): sync = level <= tz,
+  /// promoted = 0; and the new levels of the synchronised spheres (only where mask[i] != 0 when a
+  /// mask is given). Call update_pair_levels first.
   void assign(const Spheres& sp, const ContactSystem* cs, int tz, int L, const BondTerms* bonds,
               const std::uint8_t* mask = nullptr);
+  /// The spheres synchronised now, ascending: those of assign() and those promoted since.
+  void active(std::vector<std::uint32_t>& out);
   /// Lower sphere i to `target` (promoted to min(target, tz) if not synchronised); true if lowered.
   bool lower(std::uint32_t i, int target, int tz);
   /// Equalise near pairs (and bonds) to the fixed point, seeded by the spheres flagged in lflag.
@@ -80,9 +82,12 @@ class LevelRules {
 
  private:
   std::vector<std::uint8_t> plev_;  ///< l_c of each listed pair (masses and radii are constant)
+  std::vector<std::uint8_t> pmin_;  ///< per sphere the lowest plev_ of its listed pairs (255: none)
   std::uint64_t plev_version_ = UINT64_MAX;
   std::vector<std::uint8_t> lnew_;
   std::vector<std::uint32_t> work_, seeds_;
+  std::vector<std::uint32_t> synced_, promo_;  ///< synchronised by assign(); promoted since (lower())
+  std::vector<std::vector<std::uint32_t>> synced_by_thread_;
   std::vector<std::uint32_t> unsettled_, cand_, fresh_;  ///< pairs not on one level <= their l_c (ascending)
   std::uint64_t unsettled_version_ = 0;
   bool unsettled_valid_ = false;

@@ -180,9 +180,10 @@ struct ActiveArrays {
 /// with a_old + g.
 void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
                     double h, bool extrap, double* tau, const Vec3* gheld = nullptr, double hk = 0.0);
-/// Adds the active spheres' steps to the level statistics (sphere-time per level, evaluations).
+/// Adds the active spheres' steps (step - topen) h to the level statistics (sphere-time per level,
+/// evaluations).
 void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
-                  const std::vector<std::int64_t>& topen, const double* tau);
+                  const std::vector<std::int64_t>& topen, double h);
 
 /// Where a base substep lies in its gravity block of K = 2^L base steps (K a power of two): s0 =
 /// step - block start; the block opens at s0 = 0 and closes after s0 = K - 1; hk = h K / 2 is the

@@ -208,7 +208,9 @@ class Simulation {
   void setup();
   void compute_forces(bool initial);
   void compute_gravity(bool with_pot);
-  void check_state();
+  /// Throws NumericalError on a non-finite state or an overlap beyond contact.max_overlap_fraction.
+  /// With `only`, the state of those spheres alone (see step_multirate).
+  void check_state(const std::vector<std::uint32_t>* only = nullptr);
   void close_gravity_block();
   // multi-rate (multirate.cpp)
   void setup_multirate(const SimState* st);

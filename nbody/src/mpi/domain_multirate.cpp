@@ -73,7 +73,7 @@ void DomainSim::multirate_forces(const Substep& ss) {
                               lr_.promoted},
                  own_active_.data(), no, step_, h, cfg_.extrapolated_predictor, tau_own_.data(),
                  held_field(cfg_, ag_, sp_.size()), ss.hk);
-  count_active(lstats_, own_active_.data(), no, step_, topen_, tau_own_.data());
+  count_active(lstats_, own_active_.data(), no, step_, topen_, h);
   if (cfg_.extrapolated_predictor) has_prev_ = true;
   if (contacts_) {
     halo_update();  // x, v (after a promotion's kick correction), w and the predicted v, w
@@ -116,7 +116,6 @@ void DomainSim::step_multirate() {
   }
   t0 = omp_get_wtime();
   const std::size_t n2 = sp_.size();  // the exchange may have changed the local set
-  lr_.begin(tz);
   if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
   lr_.assign(sp_, contacts_.get(), tz, ss.L, nullptr, mine_.data());
   if (contacts_) {
