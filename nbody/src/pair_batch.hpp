@@ -26,11 +26,12 @@ struct Arrays {
   const std::uint32_t* pi;
   const std::uint32_t* pj;
   ContactHistory& hist;
-  PairForces* out;  ///< per pair; D = energy dissipated over the pair's step (0 without contact)
+  PairForces* out;  ///< per pair in contact
+  double* D;        ///< per pair: energy dissipated over the pair's step (0 without contact)
 };
 
 /// Evaluates the pairs rows[0..n) (n <= kLanes) with steps h[0..n); calls on_contact(p, overlap /
-/// smaller radius) for each pair p in contact. Pairs not in contact get zero force and torques,
+/// smaller radius) for each pair p in contact. Pairs not in contact get a zero result record,
 /// D = the energy their history held if they were in contact (0 otherwise), and keep their
 /// history row.
 template <unsigned PARTS, class OnContact>
@@ -76,16 +77,16 @@ inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32
   for (int l = 0; l < n; ++l) {
     const std::uint32_t p = prow[l];
     a.hist.active[p] = con[l] ? 1 : 0;
-    PairForces& r = a.out[p];
-    r.D = o.diss[l];
+    a.D[p] = o.diss[l];
     if (con[l]) {
+      PairForces& r = a.out[p];
       r.F = o.F.at(l);
       r.Tp = o.Tp.at(l);
       r.Tn = o.Tn.at(l);
       if constexpr (HIST) store_hist<PARTS>(cols, p, hl, l);
       on_contact(p, frac[l]);
     } else {
-      r.F = r.Tp = r.Tn = Vec3::Zero();
+      a.out[p] = PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
     }
   }
 }

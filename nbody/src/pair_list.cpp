@@ -374,9 +374,10 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   pj_.swap(npj);
   ph_.swap(nh);
   ++version_;
-  // (zero: a pair not in contact contributes nothing; one in contact is evaluated before its
-  // spheres sum it, since every pair of a summed sphere is evaluated)
-  pres_.assign(P, PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero(), 0.0});
+  // (zero: a pair not in contact holds a zero record, which the sums may add; a pair in contact
+  // is evaluated before its spheres sum it, since every pair of a summed sphere is evaluated)
+  pres_.assign(P, PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
+  pD_.resize(P);
   // CSR of pairs by their j member (ascending pair index = ascending partner i).
   jrow_.assign(n + 1, 0);
   for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];

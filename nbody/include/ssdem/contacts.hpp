@@ -40,10 +40,10 @@
 /// Determinism: the pair list is sorted by (i, j) with i < j; per-pair results are written to
 /// one record per pair (PairForces) in parallel and gathered per sphere in ascending partner
 /// order, so the summation order (and hence the result, bit for bit) is independent of the thread
-/// count and of when and how the list was updated: listed pairs not in contact add +0 (which
-/// leaves a sum started at +0 unchanged bit for bit) and reset their history exactly as an
-/// unlisted pair has none, so the trajectories are bit-identical to a list rebuilt from scratch
-/// every step.
+/// count and of when and how the list was updated: listed pairs not in contact add nothing or
+/// their zero record's +0 (which leaves a sum started at +0 unchanged bit for bit) and reset their history
+/// exactly as an unlisted pair has none, so the trajectories are bit-identical to a list rebuilt
+/// from scratch every step.
 /// History: one ContactHistory (contact/history.hpp, structure of arrays, columns of the enabled
 /// parts only) per pair, carried across updates by an (i, j)-key merge (a pair in contact is
 /// never dropped, by the criterion above), a second one for the wall contacts, both exported and
@@ -58,13 +58,12 @@
 
 namespace ssdem {
 
-/// What one sphere-sphere pair contributes to its two spheres at its last evaluation: the force on
-/// i (-F on j), the torques on i and on j, and the energy dissipated over the pair's step. One
-/// record per pair (80 bytes), so a sphere's sum over its pairs reads one or two cache lines per
-/// pair instead of four arrays.
+/// What one sphere-sphere pair in contact contributes to its two spheres at its last evaluation:
+/// the force on i (-F on j) and the torques on i and on j. One record per pair (72 bytes), so a
+/// sphere's sum over its pairs reads one or two cache lines per pair in contact instead of three
+/// arrays.
 struct PairForces {
   Vec3 F, Tp, Tn;
-  double D;
 };
 
 /// An infinite plane wall: points p with (p - point).normal >= 0 are inside the domain.
@@ -188,9 +187,10 @@ class ContactSystem {
   // pair list (i < j), sorted
   std::vector<std::uint32_t> pi_, pj_;
   ContactHistory ph_;  // per pair
-  // per-pair results (pair_batch.hpp): zero force and torques whenever the pair is not in
-  // contact, so the per-sphere sums add every listed pair without a test
+  // per-pair results (pair_batch.hpp): one record per pair, zero whenever the pair is not in
+  // contact, so the per-sphere sums may add every listed pair's record without a test
   std::vector<PairForces> pres_;
+  std::vector<double> pD_;  // energy dissipated over the pair's last step
   // CSR of pairs where the sphere is the j member (ascending i)
   std::vector<std::uint32_t> jrow_, jpair_;
   // CSR of pairs where the sphere is the i member: contiguous range
