@@ -160,15 +160,12 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
           if ((!mask || mask[i]) && (s0 & ((std::int64_t{1} << level[i]) - 1)) != 0) v[i] += hk * ag[i];
       for (std::uint32_t i : opening) open(i);
     }
-    if (mask) {  // a ghost does not drift
-      for (std::size_t i = b; i < e; ++i)
-        if (mask[i]) x[i] += h * v[i];
-    } else {  // one branch-free loop over the components (vectorised; the same product and sum
-              // per component as x[i] += h v[i])
-      double* xf = x->data();
-      const double* vf = v->data();
-      for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
-    }
+    // every sphere drifts, a ghost too (with its velocity as its owner last sent it): one
+    // branch-free loop over the components (vectorised; the same product and sum per component
+    // as x[i] += h v[i])
+    double* xf = x->data();
+    const double* vf = v->data();
+    for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
   }
 }
 

@@ -210,7 +210,8 @@ struct KickArrays {
 /// Opening half of base substep s0 of a gravity block, at base step `step`: every sphere i with
 /// mask null or mask[i] != 0 gets the block's opening gravity kick hk ag (when `gravity_kick`), its
 /// opening kick (h_l/2) a if synchronised at s0 (topen = step, hopen = h_l/2; the spin too when
-/// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) only records its opening step.
+/// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) records its opening step and
+/// drifts with its velocity as it is (its owner kicks it and sends the result: DomainSim).
 /// With gheld (the block's held field, "held" mode) a sphere opening a step shorter than the block
 /// kicks with (h_l/2)(a + gheld) and takes no gravity impulse.
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,

@@ -142,6 +142,7 @@ void DomainSim::exchange() {
 }
 
 void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs) {
+  ghosts_fresh_ = true;
   const std::size_t no = own.g.size();
   std::vector<std::size_t> ord(no);
   std::iota(ord.begin(), ord.end(), std::size_t{0});

@@ -24,16 +24,61 @@ void DomainSim::setup_multirate() {
 }
 
 // Ghost positions after the drift (the level rules and the pair list need them).
-void DomainSim::halo_positions() {
+// The ghosts that opened a step at base substep s0 (level l with 2^l | s0; both sides decide it
+// from the same levels, so no index is sent): x, v, w after the owner's opening kick and drift.
+// Every other ghost drifted here with the velocity its owner last sent, which the owner has not
+// changed since (a velocity changes only at its sphere's kicks: the close of a step, whose
+// sphere opens the next one, a promotion, sent with the force evaluation's halo, and the block's
+// gravity kick, at s0 = 0 where every sphere opens), so its position is the owner's bit for bit.
+void DomainSim::halo_opened(std::int64_t s0) {
   if (reach_ < 0.0) return;
   const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  auto opened = [&](std::uint32_t i) { return (s0 & ((std::int64_t{1} << lr_.level[i]) - 1)) == 0; };
   std::vector<std::vector<char>> out(comm_.size);
-  for (int r = 0; r < comm_.size; ++r)
-    for (std::uint32_t i : send_[r]) put(out[r], sp_.x[i]);
-  const std::vector<std::vector<char>> in = halo(out, sizeof(Vec3));
+  std::vector<std::size_t> expect(comm_.size, 0);
+  for (int r = 0; r < comm_.size; ++r) {
+    for (std::uint32_t i : send_[r])
+      if (opened(i))
+        for (const Vec3* v : {&sp_.x[i], &sp_.v[i], &sp_.w[i]}) put(out[r], *v);
+    for (std::uint32_t i : recv_[r]) expect[r] += opened(i) ? 3 * sizeof(Vec3) : 0;
+  }
+  const std::vector<std::vector<char>> in = comm_.neighbours(out, expect);
   for (int r = 0; r < comm_.size; ++r) {
     std::size_t off = 0;
-    for (std::uint32_t i : recv_[r]) sp_.x[i] = get<Vec3>(in[r], off);
+    for (std::uint32_t i : recv_[r])
+      if (opened(i))
+        for (Vec3* v : {&sp_.x[i], &sp_.v[i], &sp_.w[i]}) *v = get<Vec3>(in[r], off);
+  }
+  stats_.bytes_halo += comm_.bytes_sent - b0;
+  stats_.wall_comm += omp_get_wtime() - t0;
+}
+
+// The synchronised ghosts' v (a promotion's kick correction), w and predicted v, w, before a force
+// evaluation; the other ghosts' predicted velocities are those of their last evaluation, as
+// their owners hold them. After a rebuild of the local set (its ghosts carry no predicted
+// velocities) every ghost's state is sent (halo_update).
+void DomainSim::halo_synced() {
+  if (reach_ < 0.0) return;
+  if (ghosts_fresh_) {
+    halo_update();
+    ghosts_fresh_ = false;
+    return;
+  }
+  const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  std::vector<std::vector<char>> out(comm_.size);
+  std::vector<std::size_t> expect(comm_.size, 0);
+  for (int r = 0; r < comm_.size; ++r) {
+    for (std::uint32_t i : send_[r])
+      if (lr_.sync[i])
+        for (const Vec3* v : {&sp_.v[i], &sp_.w[i], &vpred_[i], &wpred_[i]}) put(out[r], *v);
+    for (std::uint32_t i : recv_[r]) expect[r] += lr_.sync[i] ? 4 * sizeof(Vec3) : 0;
+  }
+  const std::vector<std::vector<char>> in = comm_.neighbours(out, expect);
+  for (int r = 0; r < comm_.size; ++r) {
+    std::size_t off = 0;
+    for (std::uint32_t i : recv_[r])
+      if (lr_.sync[i])
+        for (Vec3* v : {&sp_.v[i], &sp_.w[i], &vpred_[i], &wpred_[i]}) *v = get<Vec3>(in[r], off);
   }
   stats_.bytes_halo += comm_.bytes_sent - b0;
   stats_.wall_comm += omp_get_wtime() - t0;
@@ -76,7 +121,7 @@ void DomainSim::multirate_forces(const Substep& ss) {
   count_active(lstats_, own_active_.data(), no, step_, topen_, h);
   if (cfg_.extrapolated_predictor) has_prev_ = true;
   if (contacts_) {
-    halo_update();  // x, v (after a promotion's kick correction), w and the predicted v, w
+    halo_synced();  // v (after a promotion's kick correction), w and the predicted v, w
     const double t0 = omp_get_wtime();
     subset_.spheres = active_;
     subset_.hsphere.resize(na);
@@ -107,7 +152,7 @@ void DomainSim::step_multirate() {
   if (ex)
     exchange();
   else
-    halo_positions();
+    halo_opened(ss.s0);
   const int tz = ss.tz;
   if (contacts_) {
     t0 = omp_get_wtime();

@@ -43,7 +43,8 @@
 /// Multi-rate steps (time.multirate, multirate.hpp). Levels, opening steps, h_open and the previous
 /// step length move with their sphere; a ghost carries its owner's level and opening step, so
 /// synchronisation (level <= tz) and each pair's step are known on every rank that holds the pair.
-/// Per base step: drift of the owned spheres, ghost positions (or an exchange; movers at k/4, so
+/// Per base step: drift of the owned spheres and of the ghosts (with the velocity last sent), the
+/// state of the ghosts that opened a step now (halo_opened; or an exchange; movers at k/4, so
 /// that a near pair, gap < k/2, is covered), the new levels of the owned synchronised spheres,
 /// their halo (ghost := owner's level), then the equalisation to the fixed point in rounds: a
 /// local equalisation; if it changed a sphere that is a ghost elsewhere (on any rank: one
@@ -51,7 +52,8 @@
 /// promotion is mirrored exactly) and another round. The rule is monotone and order
 /// free (level_rules.hpp), so this is the fixed point of one rank; levels, hence forces and
 /// trajectories, equal the one-rank run bit for bit. The owned active spheres predict and are
-/// sent (x, v, w, predicted v, w) before the contacts of all locally active spheres are computed.
+/// sent (v, w, predicted v, w: halo_synced; every ghost's state after a rebuild of the local set)
+/// before the contacts of all locally active spheres are computed.
 /// Bonds are not distributed yet: a scene with bonds on more than one rank is refused.
 #pragma once
 #include <memory>
@@ -147,7 +149,8 @@ class DomainSim {
   // multi-rate (domain_multirate.cpp)
   void setup_multirate();
   void step_multirate();
-  void halo_positions();
+  void halo_opened(std::int64_t s0);
+  void halo_synced();
   void halo_levels(bool assign, int tz);
   void multirate_forces(const Substep& ss);
   double exchange_distance() const { return (cfg_.multirate ? 0.25 : 0.5) * skin_; }
@@ -181,6 +184,7 @@ class DomainSim {
   std::vector<std::uint32_t> own_;
   std::vector<Vec3> a_, alpha_, ag_, ag_old_, a_prev_, alpha_prev_, vpred_, wpred_, F_, T_, xex_;
   bool has_prev_ = false;
+  bool ghosts_fresh_ = true;  ///< the local set was rebuilt: its ghosts carry no predicted velocities
   std::unordered_map<std::uint64_t, std::uint32_t> slot_of_id_;
   std::vector<std::vector<std::uint32_t>> send_, recv_;  // halo: owned slots sent to / ghost slots from each rank
   // replicated for gravity: all spheres (id, m, s constant; x gathered), global order
