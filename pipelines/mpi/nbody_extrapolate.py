@@ -17,8 +17,10 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
                                           positions allgathered (32 B per sphere received per rank
                                           at bandwidth B); E evaluations in S base steps
   messages  3 a + g m_h / B + 3 a (1 + log2 P)
-                                          three point-to-point halos (positions, levels, velocities:
-                                          m_h = 24 + 1 + 120 B per ghost in all) and three collectives
+                                          three point-to-point halos (opened ghosts' state, levels,
+                                          synchronised ghosts' velocities: m_h = 33 B per ghost and
+                                          base step measured, 15 985 B for 486 ghosts; 145 B before
+                                          the halos of the ghosts that changed) and three collectives
                                           (movers' allgather, levels-changed and failure allreduces)
 The paper's run: N = 8 225 x 5^3 (200 m cells instead of 1 km), S and E 5x the measured 1 km run's
 (base step proportional to the cell: the kinetic k_n rule), 4.5 h.
@@ -36,6 +38,7 @@ ap.add_argument("--w", type=float, default=1900.0, help="ns per own sphere for t
 ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="gravity evaluations per base step")
 ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
 ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
+ap.add_argument("--mh", type=float, default=33.0, help="halo bytes per ghost and base step (measured)")
 ap.add_argument("--N", type=float, default=8225 * 125, help="spheres (the paper's 200 m hand-off)")
 ap.add_argument("--steps", type=float, default=5 * 3242057, help="base steps of the 4.5 h run")
 args = ap.parse_args()
@@ -52,7 +55,7 @@ for P in (64, 512, 4096):
     walk = e * args.w * 1e-3 * n
     gather = e * args.N * 32 / (args.bw * 1e3)
     grav = build + walk + gather
-    comm = 3 * args.alpha + g * 145 / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
+    comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
     tot = comp + grav + comm
     wall_h = tot * 1e-6 * args.steps / 3600
     rows.append(f"| {P} | {n:.0f} | {g:.0f} ({g / n:.2f}) | {comp:.1f} | {grav:.1f} ({build:.1f} / {walk:.1f} / "
