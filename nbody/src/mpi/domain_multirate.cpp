@@ -84,19 +84,27 @@ void DomainSim::halo_synced() {
   stats_.wall_comm += omp_get_wtime() - t0;
 }
 
-// Owners' levels to their ghosts. assign: the ghost takes the owner's level (after the new levels
-// of the synchronised spheres); else the ghost is lowered to it where it is lower (an
-// equalisation round: LevelRules::lower mirrors the owner's promotion).
+// Owners' levels to their ghosts. assign: the synchronised ghosts take their owners' new levels
+// (only a synchronised sphere's level is assigned, and both sides know which are synchronised:
+// a base step that synchronises no ghost sends nothing); else every ghost is lowered to its
+// owner's level where that is lower (an equalisation round: LevelRules::lower mirrors the owner's
+// promotion).
 void DomainSim::halo_levels(bool assign, int tz) {
   if (reach_ < 0.0 || comm_.size == 1) return;
   const double t0 = omp_get_wtime(), b0 = comm_.bytes_sent;
+  auto sent = [&](std::uint32_t i) { return !assign || lr_.sync[i] != 0; };
   std::vector<std::vector<char>> out(comm_.size);
-  for (int r = 0; r < comm_.size; ++r)
-    for (std::uint32_t i : send_[r]) put(out[r], lr_.level[i]);
-  const std::vector<std::vector<char>> in = halo(out, sizeof(std::uint8_t));
+  std::vector<std::size_t> expect(comm_.size, 0);
+  for (int r = 0; r < comm_.size; ++r) {
+    for (std::uint32_t i : send_[r])
+      if (sent(i)) put(out[r], lr_.level[i]);
+    for (std::uint32_t i : recv_[r]) expect[r] += sent(i) ? sizeof(std::uint8_t) : 0;
+  }
+  const std::vector<std::vector<char>> in = comm_.neighbours(out, expect);
   for (int r = 0; r < comm_.size; ++r) {
     std::size_t off = 0;
     for (std::uint32_t i : recv_[r]) {
+      if (!sent(i)) continue;
       const auto l = get<std::uint8_t>(in[r], off);
       if (!assign) {
         lr_.lower(i, l, tz);
