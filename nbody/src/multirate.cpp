@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <stdexcept>
 
 #include "byte_flags.hpp"
 #include "common/status.hpp"
@@ -143,6 +144,7 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     }
     if (spin) w[i] += ho * alpha[i];
   };
+  if (gravity_kick && s0 != 0) throw std::logic_error("open_and_drift: the block's gravity kick only at s0 = 0");
   const int nt = n >= kOmpMin ? omp_get_max_threads() : 1;
 #pragma omp parallel num_threads(nt)
   {
@@ -155,9 +157,6 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
       thread_local std::vector<std::uint32_t> opening;
       opening.clear();
       append_at_most(level, b, e, __builtin_ctzll(static_cast<std::uint64_t>(s0)), opening);
-      if (gravity_kick)  // (not at s0 != 0 in either integrator; kept for the contract)
-        for (std::size_t i = b; i < e; ++i)
-          if ((!mask || mask[i]) && (s0 & ((std::int64_t{1} << level[i]) - 1)) != 0) v[i] += hk * ag[i];
       for (std::uint32_t i : opening) open(i);
     }
     // every sphere drifts, a ghost too (with its velocity as its owner last sent it): one

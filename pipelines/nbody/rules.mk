@@ -190,7 +190,8 @@ nbody-multirate-bench: ## multi-rate: one-pile overhead, 1e4 isolated spheres, 1
 	  --cases $(MR_CASES) $(if $(MR_OLD),--old $(MR_OLD))
 
 # nbody-late-bench: the reaccumulated remnant, where a paper-method run spends most of its wall
-# time: LATE_TIME simulated seconds from the last N-body snapshot of LATE_RUN (default the demo;
+# time: LATE_TIME simulated seconds from the last N-body snapshot of LATE_RUN (or from LATE_SNAP,
+# another snapshot file, e.g. the young debris; default the demo;
 # `make -C pipelines demo` first), the pipeline's scene, LATE_THREADS threads; with LATE_OLD=<another
 # ssdem-grav> old and new interleaved over LATE_ROUNDS rounds (medians); LATE_SETS="k=v;k=v" adds
 # --set overrides to the new binary's runs (e.g. 'gravity.max_every=1024', or
@@ -202,13 +203,14 @@ LATE_ROUNDS  ?= 3
 LATE_THREADS ?= 1
 LATE_SETS    ?=
 LATE_OLD_SETS ?=
+LATE_SNAP    ?=
 .PHONY: nbody-late-bench
 nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere evaluation, phases (LATE_OLD= to compare)
 	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	test -d $(LATE_RUN)/nbody || { echo "no $(LATE_RUN)/nbody: run make -C pipelines demo first" >&2; exit 2; }
 	mkdir -p $(RUNS)/nbody-late
 	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/late_pile_bench.py $(or $(LATE_OLD),-) $(BIN_NBODY) \
-	  $$(ls $(LATE_RUN)/nbody/snap_*.h5 | tail -n 1) $(RUNS)/nbody-late --time $(LATE_TIME) \
+	  $(or $(LATE_SNAP),$$(ls $(LATE_RUN)/nbody/snap_*.h5 | tail -n 1)) $(RUNS)/nbody-late --time $(LATE_TIME) \
 	  --rounds $(LATE_ROUNDS) --threads $(LATE_THREADS) --sets '$(LATE_SETS)' --old-sets '$(LATE_OLD_SETS)'
 
 # nbody-chaos-floor: multi-rate against single-rate stepping on one hand-off (CHAOS_RUN, default

@@ -41,9 +41,9 @@
 /// one record per pair (PairForces) in parallel and gathered per sphere in ascending partner
 /// order, so the summation order (and hence the result, bit for bit) is independent of the thread
 /// count and of when and how the list was updated: listed pairs not in contact add nothing or
-/// their zero record's +0 (which leaves a sum started at +0 unchanged bit for bit) and reset their history
-/// exactly as an unlisted pair has none, so the trajectories are bit-identical to a list rebuilt
-/// from scratch every step.
+/// their zero record's +0 (which leaves a sum started at +0 unchanged bit for bit) and reset
+/// their history exactly as an unlisted pair has none, so the trajectories are bit-identical to a
+/// list rebuilt from scratch every step.
 /// History: one ContactHistory (contact/history.hpp, structure of arrays, columns of the enabled
 /// parts only) per pair, carried across updates by an (i, j)-key merge (a pair in contact is
 /// never dropped, by the criterion above), a second one for the wall contacts, both exported and

@@ -208,7 +208,8 @@ struct KickArrays {
   std::vector<double>& hopen;
 };
 /// Opening half of base substep s0 of a gravity block, at base step `step`: every sphere i with
-/// mask null or mask[i] != 0 gets the block's opening gravity kick hk ag (when `gravity_kick`), its
+/// mask null or mask[i] != 0 gets the block's opening gravity kick hk ag (when `gravity_kick`, only
+/// at s0 = 0, where every sphere opens; std::logic_error otherwise), its
 /// opening kick (h_l/2) a if synchronised at s0 (topen = step, hopen = h_l/2; the spin too when
 /// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) records its opening step and
 /// drifts with its velocity as it is (its owner kicks it and sends the result: DomainSim).
