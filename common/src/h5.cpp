@@ -38,16 +38,41 @@ std::string expect_str(long long rows, std::size_t cols) {
   return cols == 1 ? "(" + r + ",)" : "(" + r + ", " + std::to_string(cols) + ")";
 }
 
+/// Create dataset `name` of block.total x cols rows and write this process's rows there: the whole
+/// dataset (one process: H5S_ALL) or a hyperslab of it. False if the write failed.
 template <class T>
-void write_any(hid_t loc, const std::string& name, const T* data, std::size_t rows,
-               std::size_t cols, const std::string& unit, hid_t mem_type, hid_t file_type) {
-  hsize_t dims[2] = {rows, cols};
-  Handle space(H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr));
+bool write_block(hid_t loc, const std::string& name, const T* data, std::size_t rows, std::size_t cols,
+                 const std::string& unit, const RowBlock& block, hid_t mem_type, hid_t file_type) {
+  const int nd = cols == 1 ? 1 : 2;
+  hsize_t dims[2] = {block.total, cols};
+  Handle space(H5Screate_simple(nd, dims, nullptr));
   if (!space.valid()) throw IoError("HDF5: cannot create dataspace for " + name);
   Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
   if (!ds.valid()) throw IoError("HDF5: cannot create dataset " + name);
-  if (rows * cols > 0) check_io(H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data), "writing " + name);
-  write_attr(ds, "unit", unit);
+  bool ok = true;
+  const bool whole = block.offset == 0 && rows == block.total && block.xfer == H5P_DEFAULT;
+  if (block.total * cols > 0 && whole) {
+    ok = H5Dwrite(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) >= 0;
+  } else if (block.total * cols > 0) {  // several processes: each its rows; one with none joins too
+    hsize_t start[2] = {block.offset, 0}, count[2] = {rows, cols}, one[2] = {1, cols};
+    Handle mem(H5Screate_simple(nd, rows > 0 ? count : one, nullptr));
+    if (rows > 0) {
+      ok = H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr) >= 0;
+    } else {
+      H5Sselect_none(space);
+      H5Sselect_none(mem);
+    }
+    ok = H5Dwrite(ds, mem_type, mem, space, block.xfer, data) >= 0 && ok;
+  }
+  write_attr(ds, "unit", unit);  // after the data, as files were always written
+  return ok;
+}
+
+template <class T>
+void write_any(hid_t loc, const std::string& name, const T* data, std::size_t rows,
+               std::size_t cols, const std::string& unit, hid_t mem_type, hid_t file_type) {
+  if (!write_block(loc, name, data, rows, cols, unit, RowBlock{0, rows, H5P_DEFAULT}, mem_type, file_type))
+    check_io(-1, "writing " + name);
 }
 
 enum class Kind { real, integer, uint64 };
@@ -310,6 +335,19 @@ void write_dataset(hid_t loc, const std::string& name, const std::int32_t* data,
 void write_dataset(hid_t loc, const std::string& name, const std::int64_t* data,
                    std::size_t rows, std::size_t cols, const std::string& unit) {
   write_any(loc, name, data, rows, cols, unit, H5T_NATIVE_INT64, H5T_STD_I64LE);
+}
+
+bool write_dataset_rows(hid_t loc, const std::string& name, const double* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block) {
+  return write_block(loc, name, data, rows, cols, unit, block, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE);
+}
+bool write_dataset_rows(hid_t loc, const std::string& name, const std::uint64_t* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block) {
+  return write_block(loc, name, data, rows, cols, unit, block, H5T_NATIVE_UINT64, H5T_STD_U64LE);
+}
+bool write_dataset_rows(hid_t loc, const std::string& name, const std::int32_t* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block) {
+  return write_block(loc, name, data, rows, cols, unit, block, H5T_NATIVE_INT32, H5T_STD_I32LE);
 }
 
 std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows,

@@ -84,15 +84,22 @@ inline void read_header(hid_t f, const std::string& file, const char* format, st
   if (!std::isfinite(time)) throw InputError(file, "/time", "non-finite time");
 }
 
-inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t n) {
+/// The fields' datasets (this process's `n` rows of each, `block`); false if a data write failed.
+inline bool write_fields(hid_t g, const std::vector<Field>& fields, std::size_t n, const h5::RowBlock& block) {
+  bool ok = true;
   for (const auto& fl : fields) {
     check_size(fl.name.c_str(), fl.values.size(), n, fl.ncomp);
-    h5::write_dataset(g, fl.name, fl.values.data(), n, fl.ncomp, fl.unit);
+    ok = h5::write_dataset_rows(g, fl.name, fl.values.data(), n, fl.ncomp, fl.unit, block) && ok;
     if (!fl.description.empty()) {
       h5::Handle ds(H5Dopen2(g, fl.name.c_str(), H5P_DEFAULT));
       h5::write_attr(ds, "description", fl.description);
     }
   }
+  return ok;
+}
+inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t n) {
+  if (!write_fields(g, fields, n, h5::RowBlock{0, n, H5P_DEFAULT}))
+    throw IoError("HDF5: writing a field failed (disk full or file not writable?)");
 }
 
 /// Every member of `g` not in `skip` must be a float64 dataset of shape (n,) or (n, k>=2): it is

@@ -53,9 +53,10 @@ const Field* ParticleSnapshot::field(const std::string& name) const {
   return nullptr;
 }
 
-void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
-                             const Provenance& prov, const H5Hook& extra) {
+bool write_particle_content(long long file, const ParticleSnapshot& s, const Provenance& prov,
+                            const h5::RowBlock& block) {
   using namespace detail;
+  const hid_t f = static_cast<hid_t>(file);
   const std::size_t n = s.count();
   check_size("position", s.position.size(), n, 3);
   check_size("velocity", s.velocity.size(), n, 3);
@@ -63,35 +64,32 @@ void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
   check_size("volume", s.volume.size(), n, 1);
   check_size("size", s.size.size(), n, 3);
   check_size("material", s.material.size(), n, 1);
+  write_header(f, kParticleFormat, kParticleFormatVersion, s.time, s.step);
   {
-    AtomicPath out(path);
-    {
-      h5::Handle f = h5::create_file(out.temp_path());
-      write_header(f, kParticleFormat, kParticleFormatVersion, s.time, s.step);
-      {
-        h5::Handle g = h5::create_group(f, "grid");
-        h5::write_attr(g, "origin", std::vector<double>(s.grid.origin.data(), s.grid.origin.data() + 3));
-        h5::write_attr(g, "cell_size", std::vector<double>(s.grid.cell_size.data(), s.grid.cell_size.data() + 3));
-        h5::write_attr(g, "shape", std::vector<std::int64_t>{s.grid.shape[0], s.grid.shape[1], s.grid.shape[2]});
-        h5::write_attr(g, "unit", std::string("m"));
-      }
-      {
-        h5::Handle g = h5::create_group(f, "particles");
-        h5::write_dataset(g, "id", s.id.data(), n, 1, "1");
-        h5::write_dataset(g, "position", s.position.data(), n, 3, "m");
-        h5::write_dataset(g, "velocity", s.velocity.data(), n, 3, "m/s");
-        h5::write_dataset(g, "mass", s.mass.data(), n, 1, "kg");
-        h5::write_dataset(g, "volume", s.volume.data(), n, 1, "m^3");
-        h5::write_dataset(g, "size", s.size.data(), n, 3, "m");
-        h5::write_dataset(g, "material", s.material.data(), n, 1, "1");
-        write_fields(g, s.fields, n);
-      }
-      h5::write_provenance(f, prov);
-      if (extra) extra(f);
-      h5::save_file(f, out.temp_path(), path);
-    }
-    out.commit();
+    h5::Handle g = h5::create_group(f, "grid");
+    h5::write_attr(g, "origin", std::vector<double>(s.grid.origin.data(), s.grid.origin.data() + 3));
+    h5::write_attr(g, "cell_size", std::vector<double>(s.grid.cell_size.data(), s.grid.cell_size.data() + 3));
+    h5::write_attr(g, "shape", std::vector<std::int64_t>{s.grid.shape[0], s.grid.shape[1], s.grid.shape[2]});
+    h5::write_attr(g, "unit", std::string("m"));
   }
+  bool ok = true;
+  {
+    h5::Handle g = h5::create_group(f, "particles");
+    ok = h5::write_dataset_rows(g, "id", s.id.data(), n, 1, "1", block) && ok;
+    ok = h5::write_dataset_rows(g, "position", s.position.data(), n, 3, "m", block) && ok;
+    ok = h5::write_dataset_rows(g, "velocity", s.velocity.data(), n, 3, "m/s", block) && ok;
+    ok = h5::write_dataset_rows(g, "mass", s.mass.data(), n, 1, "kg", block) && ok;
+    ok = h5::write_dataset_rows(g, "volume", s.volume.data(), n, 1, "m^3", block) && ok;
+    ok = h5::write_dataset_rows(g, "size", s.size.data(), n, 3, "m", block) && ok;
+    ok = h5::write_dataset_rows(g, "material", s.material.data(), n, 1, "1", block) && ok;
+    ok = write_fields(g, s.fields, n, block) && ok;
+  }
+  h5::write_provenance(f, prov);
+  return ok;
+}
+
+void write_particle_xdmf(const std::string& path, const ParticleSnapshot& s, std::size_t n) {
+  using namespace detail;
   XdmfGrid grid{"particles", s.time, n, basename(path), "/particles/position", {}};
   grid.attributes = {{"id", "/particles/id", 1, "UInt", 8},
                      {"velocity", "/particles/velocity", 3, "Float", 8},
@@ -101,6 +99,22 @@ void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
                      {"material", "/particles/material", 1, "Int", 4}};
   for (auto& a : field_attributes("/particles", s.fields)) grid.attributes.push_back(a);
   write_xdmf(xdmf_path_for(path), {grid});
+}
+
+void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
+                             const Provenance& prov, const H5Hook& extra) {
+  {
+    AtomicPath out(path);
+    {
+      h5::Handle f = h5::create_file(out.temp_path());
+      if (!write_particle_content(f, s, prov, h5::RowBlock{0, s.count(), H5P_DEFAULT}))
+        throw IoError("HDF5: writing " + path + " failed (disk full or file not writable?)");
+      if (extra) extra(f);
+      h5::save_file(f, out.temp_path(), path);
+    }
+    out.commit();
+  }
+  write_particle_xdmf(path, s, s.count());
 }
 
 ParticleSnapshot read_particle_snapshot(const std::string& path, const H5Hook& extra) {

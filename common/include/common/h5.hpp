@@ -26,6 +26,12 @@ class Handle {
   hid_t id() const { return id_; }
   operator hid_t() const { return id_; }
   bool valid() const { return id_ >= 0; }
+  /// Give up ownership (the caller closes the id).
+  hid_t release() {
+    const hid_t id = id_;
+    id_ = -1;
+    return id;
+  }
 
  private:
   hid_t id_ = -1;
@@ -72,6 +78,25 @@ void write_dataset(hid_t loc, const std::string& name, const std::int32_t* data,
                    std::size_t rows, std::size_t cols, const std::string& unit);
 void write_dataset(hid_t loc, const std::string& name, const std::int64_t* data,
                    std::size_t rows, std::size_t cols, const std::string& unit);
+
+/// Rows [offset, offset + rows) of a dataset of `total` rows, written by one of several
+/// processes together (parallel HDF5; common/mpi/h5_parallel.hpp); `xfer`: the transfer
+/// property list (collective MPI-IO). Every process of the file calls write_dataset_rows for
+/// every dataset, in the same order, with the same name, total and cols, even with no rows.
+struct RowBlock {
+  std::size_t offset = 0;
+  std::size_t total = 0;
+  hid_t xfer = H5P_DEFAULT;
+};
+/// As write_dataset, for this process's block of rows. Returns false if the data write failed
+/// (the caller agrees on failure with the other processes); throws IoError if the dataset
+/// cannot be created.
+bool write_dataset_rows(hid_t loc, const std::string& name, const double* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block);
+bool write_dataset_rows(hid_t loc, const std::string& name, const std::uint64_t* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block);
+bool write_dataset_rows(hid_t loc, const std::string& name, const std::int32_t* data, std::size_t rows,
+                        std::size_t cols, const std::string& unit, const RowBlock& block);
 
 /// Read a float64 dataset of shape (rows) if cols == 1 or (rows, cols); `rows` = expected
 /// row count, or -1 to accept any. Throws InputError "file: /path: ..." on mismatch.

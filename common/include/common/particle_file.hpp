@@ -19,6 +19,7 @@
 
 #include "common/field.hpp"
 #include "common/grid.hpp"
+#include "common/h5.hpp"
 #include "common/provenance.hpp"
 
 namespace common {
@@ -50,6 +51,16 @@ using H5Hook = std::function<void(long long /*hid_t file*/)>;
 /// InputError if the snapshot is internally inconsistent (array sizes).
 void write_particle_snapshot(const std::string& path, const ParticleSnapshot& s,
                              const Provenance& prov, const H5Hook& extra = {});
+
+/// The content of a particle file, written into the open HDF5 file `file`: root attributes, /grid,
+/// this process's rows `block` of every /particles dataset, /provenance. write_particle_snapshot
+/// writes the whole set; the MPI writer (common/mpi/particle_file_mpi.hpp) gives each rank its
+/// block of the sorted rows (every rank calls it, with the same fields). False if a data write
+/// failed; throws IoError if a group or dataset cannot be created.
+bool write_particle_content(long long file, const ParticleSnapshot& s, const Provenance& prov,
+                            const h5::RowBlock& block);
+/// The XDMF sidecar of the particle file `path` of `n` particles (the fields of `s`).
+void write_particle_xdmf(const std::string& path, const ParticleSnapshot& s, std::size_t n);
 
 /// Read and validate: format tag, version (newer -> error), required datasets, shapes, dtypes,
 /// finite positions/velocities/masses, positive mass and volume. Throws InputError naming the

@@ -1,6 +1,7 @@
 /// @file run_mpi.cpp
 /// mpm-frag time loop on MPI ranks (run_mpi.hpp; no physics here): dt = the global stable step
-/// cut at snapshot times, DomainSolver steps, series rows and snapshots from rank 0, checkpoints
+/// cut at snapshot times, DomainSolver steps, series rows from rank 0, snapshots written by every
+/// rank together (snapshot_mpi.hpp), checkpoints
 /// (periodic, at the end, on SIGTERM/SIGINT) and --restart (checkpoint_mpi.hpp).
 #include "mpm/mpi/run_mpi.hpp"
 
@@ -20,6 +21,7 @@
 #include "mpm/memory_bounds.hpp"
 #include "mpm/mpi/checkpoint_mpi.hpp"
 #include "mpm/mpi/domain.hpp"
+#include "mpm/mpi/snapshot_mpi.hpp"
 #include "mpm/output.hpp"
 #include "mpm/scene_setup.hpp"
 
@@ -79,14 +81,9 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   const std::string ckpt_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_checkpoint.h5")).string();
   RunSummary sum;
   sum.particles = static_cast<std::size_t>(ntot);
-  auto write_snap = [&]() {
-    ParticleSet ps;
-    std::vector<MaterialSlot> mats;
-    dom.gather(0, ps, mats);
-    if (rank != 0) return;
+  auto write_snap = [&]() {  // collective parallel HDF5: no rank holds every particle
     const std::string path = snap_path(dom.step_count());
-    const common::ParticleSnapshot snap = make_snapshot(ps, mats, st.grid, dom.time(), dom.step_count());
-    common::write_particle_snapshot(path, snap, prov);
+    write_snapshot_mpi(dom, st.grid, path, prov);
     sum.last_snapshot = path;
   };
   // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record gathered

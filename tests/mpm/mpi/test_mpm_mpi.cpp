@@ -300,17 +300,3 @@ TEST(MpmMpi, RepeatedRunsAreBitIdentical) {
   EXPECT_EQ(0, std::memcmp(&a.d1.momentum[0], &b.d1.momentum[0], 3 * sizeof(double)));
   EXPECT_EQ(a.d1.total(), b.d1.total());
 }
-
-int main(int argc, char** argv) {
-  int provided = 0;
-  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided);
-  ::testing::InitGoogleTest(&argc, argv);
-  if (rank() != 0) {
-    auto& l = ::testing::UnitTest::GetInstance()->listeners();
-    delete l.Release(l.default_result_printer());
-  }
-  int rc = RUN_ALL_TESTS();
-  MPI_Allreduce(MPI_IN_PLACE, &rc, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return rc;
-}

@@ -30,6 +30,12 @@
 using namespace ssdem;
 
 namespace {
+// the one-rank references sum in index order: one OpenMP thread unless a test asks for more
+[[maybe_unused]] const bool kOneThread = [] {
+  omp_set_num_threads(1);
+  return true;
+}();
+
 mpi::Comm& world() {
   static mpi::Comm c(MPI_COMM_WORLD);
   return c;
@@ -502,18 +508,4 @@ TEST(MpiDomain, MultirateEqualisationCrossesDomainsInRoundsOfOneStep) {
 TEST(MpiDomain, MultirateRestartOnFewerRanksContinuesBitIdentically) {
   const SimConfig cfg = multirate_config();
   restart_on_fewer_ranks(two_bodies_unequal(cfg.dt, 300), cfg, 400, 800);
-}
-
-int main(int argc, char** argv) {
-  MPI_Init(&argc, &argv);
-  omp_set_num_threads(1);  // the one-rank reference sums in index order
-  ::testing::InitGoogleTest(&argc, argv);
-  if (world().rank != 0) {
-    auto& l = ::testing::UnitTest::GetInstance()->listeners();
-    delete l.Release(l.default_result_printer());
-  }
-  int rc = RUN_ALL_TESTS();
-  MPI_Allreduce(MPI_IN_PLACE, &rc, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
-  MPI_Finalize();
-  return rc;
 }

@@ -11,6 +11,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -105,6 +106,20 @@ struct Comm {
   void max(double* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_DOUBLE, MPI_MAX, c); }
   /// Element-wise integer sum over the ranks, in place (exact).
   void sum(long long* v, int n) { MPI_Allreduce(MPI_IN_PLACE, v, n, MPI_LONG_LONG, MPI_SUM, c); }
+  /// True on every rank iff `ok` on every rank (a failure every rank acts on together).
+  bool all(bool ok) {
+    int v = ok ? 1 : 0;
+    MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_MIN, c);
+    return v == 1;
+  }
+  /// `root`'s string on every rank.
+  std::string bcast(std::string s, int root = 0) {
+    long long n = static_cast<long long>(s.size());
+    MPI_Bcast(&n, 1, MPI_LONG_LONG, root, c);
+    s.resize(static_cast<std::size_t>(n));
+    MPI_Bcast(s.data(), static_cast<int>(n), MPI_CHAR, root, c);
+    return s;
+  }
 
  private:
   static constexpr int kHaloTag = 7101;  ///< tag of neighbours() (collectives use no tags)

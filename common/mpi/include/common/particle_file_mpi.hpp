@@ -1,0 +1,25 @@
+/// @file particle_file_mpi.hpp
+/// A particle snapshot (common/particle_file.hpp) written by every rank of a communicator
+/// together, MPI build only: each rank passes its own particles; the rows are moved so that each
+/// rank holds one block of the file's order (sorted_rows.hpp) and written with collective
+/// parallel HDF5 (h5_parallel.hpp). The file equals the one the serial writer makes of all the
+/// particles in that order: the same datasets, shapes, dtypes, units and attributes, so the
+/// hand-off and h5py read it unchanged. No rank holds more than about 2/P of the particles, plus
+/// one column in flight.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "common/particle_file.hpp"
+#include "common/sorted_rows.hpp"
+
+namespace common::mpi {
+
+/// Collective. `local`: this rank's particles (time, step and grid equal on every rank, the same
+/// fields in the same order); keys[i]: the file order of local row i (rows sorted by key).
+/// Throws IoError on every rank if the file cannot be written (an earlier file is left as it
+/// was); std::logic_error if the ranks' field lists differ. Rank 0 writes the XDMF sidecar.
+void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const ParticleSnapshot& local,
+                                 const std::vector<RowKey>& keys, const Provenance& prov);
+
+}  // namespace common::mpi

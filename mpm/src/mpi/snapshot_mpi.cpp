@@ -1,0 +1,22 @@
+/// @file snapshot_mpi.cpp
+/// Implementation of mpm/mpi/snapshot_mpi.hpp (the header states the contract).
+#include "mpm/mpi/snapshot_mpi.hpp"
+
+#include "common/particle_file_mpi.hpp"
+#include "mpm/output.hpp"
+
+namespace mpmfrag::mpi {
+
+void write_snapshot_mpi(DomainSolver& dom, const common::GridInfo& grid, const std::string& path,
+                        const common::Provenance& prov) {
+  const Solver& s = dom.local();
+  const ParticleSet& ps = s.particles();
+  const std::vector<MaterialSlot>& mats = s.materials();
+  const common::ParticleSnapshot local = make_snapshot(ps, mats, grid, dom.time(), dom.step_count());
+  std::vector<common::mpi::RowKey> keys(ps.size());
+  for (std::size_t m = 0; m < mats.size(); ++m)
+    for (std::size_t p = mats[m].begin; p < mats[m].end; ++p) keys[p] = {m, ps.id[p]};
+  common::mpi::write_particle_snapshot_mpi(dom.comm(), path, local, keys, prov);
+}
+
+}  // namespace mpmfrag::mpi
