@@ -1,5 +1,6 @@
 /// @file checkpoint.cpp
-/// mpm-frag checkpoint files (layout and contract in checkpoint.hpp).
+/// mpm-frag checkpoint files (layout and contract in checkpoint.hpp): reading, and the totals
+/// packing shared with the writer (checkpoint_write.cpp).
 #include "mpm/checkpoint.hpp"
 
 #include <type_traits>
@@ -9,14 +10,15 @@
 #include "common/particle_file.hpp"
 #include "common/run_identity.hpp"
 #include "common/status.hpp"
+#include "mpm/checkpoint_rows.hpp"
 #include "mpm/output.hpp"
 
 namespace mpmfrag {
 namespace {
 
 namespace h5 = common::h5;
-constexpr const char* kFormat = "mpm-frag.checkpoint";
-constexpr std::int64_t kVersion = 1;
+constexpr const char* kFormat = kCheckpointFormat;
+constexpr std::int64_t kVersion = kCheckpointVersion;
 constexpr std::size_t kTotals = 16;
 
 }  // namespace
@@ -63,13 +65,6 @@ Diagnostics unpack_totals(const std::vector<double>& v, const std::string& file,
   return mpmfrag::unpack_totals(v);
 }
 
-// The series text as little-endian uint64 words (the h5 wrappers write numbers, not byte strings).
-std::vector<std::uint64_t> pack_bytes(const std::string& s) {
-  std::vector<std::uint64_t> w((s.size() + 7) / 8, 0);
-  for (std::size_t i = 0; i < s.size(); ++i)
-    w[i / 8] |= static_cast<std::uint64_t>(static_cast<unsigned char>(s[i])) << (8 * (i % 8));
-  return w;
-}
 std::string unpack_bytes(const std::vector<std::uint64_t>& w, std::size_t n) {
   std::string s(n, '\0');
   for (std::size_t i = 0; i < n; ++i) s[i] = static_cast<char>((w[i / 8] >> (8 * (i % 8))) & 0xff);
@@ -86,14 +81,6 @@ std::vector<T> read_array(hid_t f, const std::string& name, long long rows, std:
     return h5::read_i32(f, name, rows, cols, file);
 }
 
-// Every ParticleSet array under `group` (raw values; an unused optional array is left out).
-void write_set(hid_t group, const ParticleSet& ps) {
-  ParticleSet::for_each_array([&](const auto& a) {
-    const auto& v = ps.*a.member;
-    if (a.info.optional && v.empty()) return;
-    h5::write_dataset(group, a.info.name, v.data(), ps.size(), static_cast<std::size_t>(a.info.width), a.info.unit);
-  });
-}
 ParticleSet read_set(hid_t f, const std::string& group, long long n, const std::string& file) {
   ParticleSet ps;
   ParticleSet::for_each_array([&](const auto& a) {
@@ -115,82 +102,6 @@ std::size_t cols_of(hid_t f, const std::string& name, const std::string& file) {
 }
 
 }  // namespace
-
-void write_checkpoint(const std::string& path, const Solver& solver, const DriverState& driver,
-                      const common::Provenance& prov, const std::string& identity) {
-  write_checkpoint(path, solver.particles(), solver.materials(), solver.grid(), solver.resume_state(), driver, prov,
-                   identity);
-}
-
-void write_checkpoint(const std::string& path, const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
-                      const common::GridInfo& grid, const SolverResume& r, const DriverState& driver,
-                      const common::Provenance& prov, const std::string& identity, const common::H5Hook& extra) {
-  const common::ParticleSnapshot snap = make_snapshot(ps, mats, grid, r.time, r.step);
-  common::check_output_particles(snap, path);  // never Inf/NaN in an output (exit 3)
-  auto hook = [&](long long fid) {
-    const hid_t f = static_cast<hid_t>(fid);
-    h5::Handle g = h5::create_group(f, "mpm_state");
-    h5::write_attr(g, "format", std::string(kFormat));
-    h5::write_attr(g, "format_version", kVersion);
-    h5::write_attr(g, "step", static_cast<std::int64_t>(r.step));
-    h5::write_attr(g, "time", r.time);
-    h5::write_attr(g, "max_speed", r.max_speed);
-    h5::write_attr(g, "min_node_mass", r.min_node_mass);
-    h5::write_attr(g, "next_snapshot", driver.next_snapshot);
-    h5::write_attr(g, "first_dt", driver.first_dt);
-    h5::write_attr(g, "min_dt", driver.min_dt);
-    h5::write_attr(g, "max_dt", driver.max_dt);
-    h5::write_attr(g, "initial_totals", pack_totals(driver.initial));
-    h5::write_attr(g, "outflow_totals", pack_totals(r.outflow_totals));
-    if (!r.drive_loads.empty()) {  // force and impulse of each drive (body_drive.hpp)
-      std::vector<double> dl;
-      for (const DriveLoad& l : r.drive_loads)
-        for (const Eigen::Vector3d* v : {&l.force, &l.impulse}) dl.insert(dl.end(), v->data(), v->data() + 3);
-      h5::write_attr(g, "drive_loads", dl);
-    }
-    h5::write_attr(g, "run_identity", identity);
-    h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
-    {
-      h5::Handle p = h5::create_group(g, "particles");
-      write_set(p, ps);
-    }
-    h5::write_attr(g, "material_count", static_cast<std::int64_t>(mats.size()));
-    h5::Handle mg = h5::create_group(g, "materials");
-    for (std::size_t m = 0; m < mats.size(); ++m) {
-      const MaterialSlot& s = mats[m];
-      h5::Handle sg = h5::create_group(mg, std::to_string(m));
-      h5::write_attr(sg, "name", s.name);
-      h5::write_attr(sg, "begin", static_cast<std::int64_t>(s.begin));
-      h5::write_attr(sg, "end", static_cast<std::int64_t>(s.end));
-      for (std::size_t k = 0; k < s.state.size(); ++k) {
-        const StateField& sf = s.style->state_fields[k];
-        h5::write_dataset(sg, sf.name, s.state[k].data(), s.end - s.begin, static_cast<std::size_t>(sf.ncomp),
-                          sf.unit);
-      }
-    }
-    h5::Handle og = h5::create_group(g, "outflow");
-    {
-      h5::Handle p = h5::create_group(og, "particles");
-      write_set(p, r.outflow);
-    }
-    h5::write_dataset(og, "removal_time", r.outflow_time.data(), r.outflow_time.size(), 1, "s");
-    h5::Handle fg = h5::create_group(og, "fields");
-    for (std::size_t k = 0; k < r.outflow_fields.size(); ++k) {
-      const common::Field& fl = r.outflow_fields[k];
-      const std::string name = std::to_string(k);
-      h5::write_dataset(fg, name, fl.values.data(), r.outflow.size(), fl.ncomp, fl.unit);
-      h5::Handle ds(H5Dopen2(fg, name.c_str(), H5P_DEFAULT));
-      h5::write_attr(ds, "name", fl.name);
-      h5::write_attr(ds, "description", fl.description);
-      h5::write_attr(ds, "initial", r.outflow_init[k]);
-    }
-    const std::vector<std::uint64_t> words = pack_bytes(driver.series);
-    h5::write_attr(g, "series_bytes", static_cast<std::int64_t>(driver.series.size()));
-    h5::write_dataset(g, "series", words.data(), words.size(), 1, "1");
-    if (extra) extra(fid);
-  };
-  common::write_particle_snapshot(path, snap, prov, hook);
-}
 
 Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra) {
   Checkpoint ck;

@@ -9,14 +9,12 @@
 
 namespace common::mpi {
 
-void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const ParticleSnapshot& local,
-                                 const std::vector<RowKey>& keys, const Provenance& prov) {
-  if (keys.size() != local.count()) throw std::logic_error("write_particle_snapshot_mpi: one key per particle");
+ParticleSnapshot sorted_block(Comm& comm, const SortedRows& plan, const ParticleSnapshot& local,
+                              const std::string& path) {
   std::string fields;  // every rank writes the same datasets: their names and widths agree
   for (const Field& f : local.fields) fields += f.name + ":" + std::to_string(f.ncomp) + ";";
   if (!comm.all(comm.bcast(fields) == fields))
     throw std::logic_error("write_particle_snapshot_mpi: the ranks' field lists differ (" + path + ")");
-  const SortedRows plan(comm, keys);
   ParticleSnapshot block;
   block.time = local.time;
   block.step = local.step;
@@ -30,11 +28,21 @@ void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const Part
   block.material = plan.move(local.material, 1);
   for (const Field& f : local.fields)
     block.fields.push_back(Field{f.name, f.unit, f.ncomp, plan.move(f.values, f.ncomp), f.description});
-  // room for the data plus HDF5's metadata (object headers, attributes, provenance): generous
+  return block;
+}
+
+std::uintmax_t particle_file_bytes(const ParticleSnapshot& s, std::size_t total) {
   std::uintmax_t row = 8 + 24 + 24 + 8 + 8 + 24 + 4;
-  for (const Field& f : local.fields) row += 8 * f.ncomp;
-  const std::uintmax_t bytes = row * plan.total() + (std::uintmax_t{1} << 20) + 16384 * (7 + local.fields.size());
-  ParallelFile file(comm, path, bytes);
+  for (const Field& f : s.fields) row += 8 * f.ncomp;
+  return row * total + (std::uintmax_t{1} << 20) + 16384 * (7 + s.fields.size());
+}
+
+void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const ParticleSnapshot& local,
+                                 const std::vector<RowKey>& keys, const Provenance& prov) {
+  if (keys.size() != local.count()) throw std::logic_error("write_particle_snapshot_mpi: one key per particle");
+  const SortedRows plan(comm, keys);
+  const ParticleSnapshot block = sorted_block(comm, plan, local, path);
+  ParallelFile file(comm, path, particle_file_bytes(local, plan.total()));
   const bool ok = write_particle_content(file.id(), block, prov, file.rows(plan.offset(), plan.total()));
   file.commit(ok);
   if (comm.rank == 0) write_particle_xdmf(path, block, plan.total());

@@ -1,13 +1,14 @@
 /// @file checkpoint_mpi.cpp
 /// mpm-frag checkpoints on MPI ranks (design and file layout in mpm/mpi/checkpoint_mpi.hpp):
-/// gather and write on rank 0, read on rank 0 and broadcast, and the restart constructor of
-/// DomainSolver that distributes the particles.
+/// read on rank 0 and broadcast, and the restart constructor of DomainSolver that distributes
+/// the particles (writing: checkpoint_write_mpi.cpp).
 #include "mpm/mpi/checkpoint_mpi.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <numeric>
 
+#include "common/agreed.hpp"
 #include "common/h5.hpp"
 #include "common/status.hpp"
 
@@ -19,58 +20,11 @@ namespace h5 = common::h5;
 /// Run `f` on rank 0; an exception there is thrown, with its type (exit code) and message, on
 /// every rank (a rank left waiting in a collective would hang the run).
 void on_root(Comm& comm, const std::function<void()>& f) {
-  int code = 0;
-  std::string msg;
-  if (comm.rank == 0) {
-    try {
-      f();
-    } catch (const common::InputError& e) {
-      code = 2, msg = e.what();
-    } catch (const common::NumericalError& e) {
-      code = 3, msg = e.what();
-    } catch (const std::exception& e) {
-      code = 4, msg = e.what();
-    }
-  }
-  int len = static_cast<int>(msg.size());
-  int head[2] = {code, len};
-  MPI_Bcast(head, 2, MPI_INT, 0, comm.c);
-  if (head[0] == 0) return;
-  msg.resize(static_cast<std::size_t>(head[1]));
-  MPI_Bcast(msg.data(), head[1], MPI_CHAR, 0, comm.c);
-  if (head[0] == 2) throw common::InputError(msg);
-  if (head[0] == 3) throw common::NumericalError(msg);
-  throw common::IoError(msg);
-}
-}  // namespace
-
-void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const DriverState& driver,
-                          const common::Provenance& prov, const std::string& identity) {
-  ParticleSet ps;
-  std::vector<MaterialSlot> mats;
-  Layout layout;
-  dom.gather(0, ps, mats, &layout);
-  SolverResume r = dom.local().resume_state();
-  OutflowRecord out = dom.gather_outflow(0);
-  r.outflow = std::move(out.ps);
-  r.outflow_time = std::move(out.time);
-  r.outflow_fields = std::move(out.fields);
-  r.outflow_init = std::move(out.init);
-  r.outflow_totals = out.totals;
-  const common::GridInfo& grid = dom.local().grid();
-  on_root(dom.comm(), [&] {
-    auto hook = [&](long long fid) {
-      h5::Handle g = h5::create_group(static_cast<hid_t>(fid), "mpm_state/mpi");
-      h5::write_attr(g, "ranks", static_cast<std::int64_t>(layout.cut.size() - 1));
-      h5::write_attr(g, "cuts", std::vector<std::int64_t>(layout.cut.begin(), layout.cut.end()));
-      h5::write_dataset(g, "rank", layout.rank.data(), layout.rank.size(), 1, "1");
-      h5::write_dataset(g, "index", layout.index.data(), layout.index.size(), 1, "1");
-      const std::size_t nt = pack_totals(Diagnostics{}).size();
-      h5::write_dataset(g, "outflow_totals", out.rank_totals.data(), out.rank_totals.size() / nt, nt, "SI");
-    };
-    write_checkpoint(path, ps, mats, grid, r, driver, prov, identity, hook);
+  common::mpi::agreed(comm, [&] {
+    if (comm.rank == 0) f();
   });
 }
+}  // namespace
 
 RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const common::RunIdentity& ident) {
   RestartData d;

@@ -2,6 +2,8 @@
 /// Implementation of mpm/mpi/snapshot_mpi.hpp (the header states the contract).
 #include "mpm/mpi/snapshot_mpi.hpp"
 
+#include "common/agreed.hpp"
+#include "common/finite.hpp"
 #include "common/particle_file_mpi.hpp"
 #include "mpm/output.hpp"
 
@@ -13,6 +15,8 @@ void write_snapshot_mpi(DomainSolver& dom, const common::GridInfo& grid, const s
   const ParticleSet& ps = s.particles();
   const std::vector<MaterialSlot>& mats = s.materials();
   const common::ParticleSnapshot local = make_snapshot(ps, mats, grid, dom.time(), dom.step_count());
+  // never Inf/NaN in an output (exit 3 on every rank, nothing written)
+  common::mpi::agreed(dom.comm(), [&] { common::check_output_particles(local, path); });
   std::vector<common::mpi::RowKey> keys(ps.size());
   for (std::size_t m = 0; m < mats.size(); ++m)
     for (std::size_t p = mats[m].begin; p < mats[m].end; ++p) keys[p] = {m, ps.id[p]};

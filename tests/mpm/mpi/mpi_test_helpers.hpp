@@ -132,4 +132,37 @@ inline mpi::DomainOptions impact_options() {
   return o;
 }
 
+// ------------------------------------------------------------------------------------------
+// Outflow removal (grid.outflow = "remove"): two flyers (Tonge–Ramesh rock and elastic) side by
+// side along the split axis leave the grid through y+ at 400 m/s next to a resting rock bar;
+// removals at 6.9e-5 and 8.2e-5 s.
+inline Setup outflow_setup() {
+  return mpmtest::setup_from(R"(
+[grid]
+domain_min = [0.0, 0.0, 0.0]
+domain_max = [0.3, 0.06, 0.04]
+cell_size = 0.01
+outflow = "remove"
+[time]
+end = 1.0
+)" + kRockAndSoft + R"(
+[[body]]
+material = "rock"
+shape = "box"
+min = [0.02, 0.01, 0.01]
+max = [0.28, 0.03, 0.03]
+[[body]]
+material = "rock"
+shape = "box"
+min = [0.02, 0.04, 0.01]
+max = [0.14, 0.05, 0.03]
+velocity = [0.0, 400.0, 0.0]
+[[body]]
+material = "soft"
+shape = "box"
+min = [0.16, 0.04, 0.01]
+max = [0.28, 0.05, 0.03]
+velocity = [0.0, 400.0, 0.0]
+)");
+}
 }  // namespace mpmtest

@@ -22,4 +22,13 @@ namespace common::mpi {
 void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const ParticleSnapshot& local,
                                  const std::vector<RowKey>& keys, const Provenance& prov);
 
+/// The pieces, for writers that add groups of their own (mpm-frag's checkpoints):
+/// collective: `local` moved to this rank's block of the file order (`plan`, made from the keys);
+/// std::logic_error on every rank if the ranks' field lists differ (`path` names the file).
+ParticleSnapshot sorted_block(Comm& comm, const SortedRows& plan, const ParticleSnapshot& local,
+                              const std::string& path);
+/// Bytes to reserve for a particle file of `total` rows with the fields of `s` (data plus a
+/// generous allowance for HDF5's metadata: object headers, attributes, provenance).
+std::uintmax_t particle_file_bytes(const ParticleSnapshot& s, std::size_t total);
+
 }  // namespace common::mpi

@@ -2,17 +2,24 @@
 /// mpm-frag checkpoints on MPI ranks (issue 19 item 4; MPI build only): written on N ranks and
 /// read on any M ranks, one rank included (the serial driver reads them unchanged).
 ///
-/// Writing (collective): every particle with its material state is gathered to rank 0
-/// (DomainSolver::gather: sorted by id within each material, the layout of the snapshots) and
-/// the serial writer (mpm/checkpoint.hpp) writes the file: the serial layout, plus the group
+/// Writing (collective, checkpoint_write_mpi.cpp): one file written by every rank together with
+/// parallel HDF5 (common/h5_parallel.hpp: a temporary name renamed by rank 0 once every rank
+/// succeeded, the space reserved first). A parallel sample sort by (material slot, id)
+/// (common/sorted_rows.hpp) gives each rank one block of the file's particle order, and one per
+/// material for its state arrays; each rank writes its rows of every dataset (the
+/// snapshot part, /mpm_state/particles, materials/<m>, mpi/rank and index) through the serial
+/// writer's own code (mpm/checkpoint_rows.hpp), so the file is the one the serial writer makes
+/// of all the particles (h5diff-equal, test_mpm_mpi_files.cpp): the serial layout, plus the group
 ///   /mpm_state/mpi   attrs ranks (N), cuts (the N+1 slab cuts, node planes);
 ///                    datasets rank (int32) and index (uint64): per particle of the file, the
 ///                    rank that held it and its index there; outflow_totals (ranks x 16): each
 ///                    rank's totals of the particles it removed at the grid edge (pack_totals)
 /// which only a restart on N ranks uses. The solver's carried state (SolverResume: time, step,
-/// the max signal speed of the next dt, m_min) is the same on every rank (global reductions) and
-/// is taken from rank 0; the outflow records are gathered (DomainSolver::gather_outflow); drive
-/// loads do not exist on several ranks.
+/// the max signal speed of the next dt, m_min) is the same on every rank (global reductions), as
+/// parallel HDF5's attributes require; the outflow records are gathered to rank 0 (DomainSolver::gather_outflow:
+/// particles that left the grid, few against those in it), which writes them and the series text
+/// while the other ranks join with no rows; drive loads do not exist on several ranks. A value
+/// that is not finite on any rank throws NumericalError on every rank and writes nothing.
 ///
 /// Reading (collective): rank 0 reads the file (and checks the run identity); the scalars of
 /// SolverResume and DriverState are broadcast; the particles are distributed by
@@ -21,8 +28,8 @@
 /// cuts balance the particle count and each rank keeps the file order (agreement with the
 /// uninterrupted run to round-off: the nodal sums are added in another order).
 ///
-/// Errors on rank 0 (a bad file, another run's checkpoint, a failed write) are broadcast and
-/// thrown on every rank with the same type (exit codes 2 / 4 on every rank).
+/// Errors while reading on rank 0 (a bad file, another run's checkpoint) are broadcast and thrown
+/// on every rank with the same type (exit codes 2 / 4 on every rank; common/agreed.hpp).
 #pragma once
 #include <string>
 
@@ -33,7 +40,9 @@
 
 namespace mpmfrag::mpi {
 
-/// Write the checkpoint of `dom`'s state to `path` from rank 0 (`driver.series`: rank 0's).
+/// Write the checkpoint of `dom`'s state to `path`, every rank its rows (collective;
+/// `driver.series`: rank 0's). IoError on every rank if it cannot be written (an earlier file
+/// at `path` is kept), NumericalError on every rank for a non-finite value.
 void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const DriverState& driver,
                           const common::Provenance& prov, const std::string& identity);
 

@@ -50,9 +50,10 @@
 /// momentum to round-off of the force sums (the force on a shared node is the same sum).
 ///
 /// ## Not yet (first step)
-/// Snapshots and checkpoints are gathered to rank 0 and written by the serial writer (one file,
-/// serial layout, particles sorted by id within each material; checkpoint_mpi.hpp: restart on any
-/// rank count); no collective HDF5, no velocity-driven bodies; every rank builds the full scene
+/// Snapshots and checkpoints are written by every rank together with collective parallel HDF5
+/// (snapshot_mpi.hpp, checkpoint_mpi.hpp: the serial layout, particles sorted by id within each
+/// material; restart on any rank count), but the outflow record is gathered to rank 0 and a
+/// restart reads the checkpoint on rank 0; no velocity-driven bodies; every rank builds the full scene
 /// and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
 /// would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once

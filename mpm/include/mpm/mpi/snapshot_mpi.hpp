@@ -13,7 +13,9 @@
 namespace mpmfrag::mpi {
 
 /// Collective: the snapshot of every rank's particles at the current step, written to `path`.
-/// Throws common::IoError on every rank if it cannot be written (an earlier file is kept).
+/// Throws common::IoError on every rank if it cannot be written (an earlier file is kept), and
+/// common::NumericalError on every rank, writing nothing, if any rank holds a value that is not
+/// finite (as the serial driver, exit 3).
 void write_snapshot_mpi(DomainSolver& dom, const common::GridInfo& grid, const std::string& path,
                         const common::Provenance& prov);
 

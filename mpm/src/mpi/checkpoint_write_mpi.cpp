@@ -1,0 +1,146 @@
+/// @file checkpoint_write_mpi.cpp
+/// Writing mpm-frag checkpoints on MPI ranks (layout and contract in mpm/mpi/checkpoint_mpi.hpp):
+/// every rank writes its block of the file's rows with collective parallel HDF5; no rank holds
+/// every particle. Reading is in checkpoint_mpi.cpp.
+#include <algorithm>
+
+#include "common/agreed.hpp"
+#include "common/finite.hpp"
+#include "common/h5_parallel.hpp"
+#include "common/particle_file_mpi.hpp"
+#include "mpm/checkpoint_rows.hpp"
+#include "mpm/mpi/checkpoint_mpi.hpp"
+#include "mpm/output.hpp"
+
+namespace mpmfrag::mpi {
+
+namespace {
+namespace h5 = common::h5;
+using common::mpi::RowKey;
+using common::mpi::SortedRows;
+
+/// Bytes of one row of every ParticleSet array (the optional ones if `optional`).
+std::size_t set_row_bytes(bool optional) {
+  std::size_t b = 0;
+  ParticleSet::for_each_array([&](const auto& a) {
+    using T = typename std::decay_t<decltype(a)>::element_type;
+    if (!a.info.optional || optional) b += sizeof(T) * static_cast<std::size_t>(a.info.width);
+  });
+  return b;
+}
+
+/// The outflow record on rank 0 (gathered: it is small against the particles) and its
+/// description on every rank: row count, fields' names, units, widths, descriptions and initial
+/// values, totals. Returns the rank totals (rank 0) for /mpm_state/mpi.
+std::vector<double> outflow_on_root(DomainSolver& dom, SolverResume& r, bool& optional) {
+  Comm& comm = dom.comm();
+  OutflowRecord out = dom.gather_outflow(0);
+  const bool root = comm.rank == 0;
+  r.outflow = root ? std::move(out.ps) : ParticleSet{};
+  r.outflow_time = root ? std::move(out.time) : std::vector<double>{};
+  r.outflow_fields = root ? std::move(out.fields) : std::vector<common::Field>{};
+  r.outflow_init = root ? std::move(out.init) : std::vector<double>{};
+  long long head[3] = {static_cast<long long>(r.outflow_fields.size()), uses_optional_arrays(r.outflow) ? 1 : 0, 0};
+  MPI_Bcast(head, 3, MPI_LONG_LONG, 0, comm.c);
+  optional = head[1] != 0;
+  const std::size_t nf = static_cast<std::size_t>(head[0]);
+  std::vector<double> tot = pack_totals(out.totals);
+  MPI_Bcast(tot.data(), static_cast<int>(tot.size()), MPI_DOUBLE, 0, comm.c);
+  r.outflow_totals = unpack_totals(tot);
+  r.outflow_init.resize(nf);
+  MPI_Bcast(r.outflow_init.data(), static_cast<int>(nf), MPI_DOUBLE, 0, comm.c);
+  r.outflow_fields.resize(nf);
+  for (common::Field& f : r.outflow_fields) {
+    f.name = comm.bcast(f.name);
+    f.unit = comm.bcast(f.unit);
+    f.description = comm.bcast(f.description);
+    long long nc = static_cast<long long>(f.ncomp);
+    MPI_Bcast(&nc, 1, MPI_LONG_LONG, 0, comm.c);
+    f.ncomp = static_cast<std::size_t>(nc);
+  }
+  return out.rank_totals;
+}
+}  // namespace
+
+void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const DriverState& driver,
+                          const common::Provenance& prov, const std::string& identity) {
+  Comm& comm = dom.comm();
+  const Solver& s = dom.local();
+  const ParticleSet& ps = s.particles();
+  const std::vector<MaterialSlot>& mats = s.materials();
+  SolverResume r = s.resume_state();  // the scalars: global reductions, the same bits on every rank
+  const common::ParticleSnapshot local = make_snapshot(ps, mats, s.grid(), r.time, r.step);
+  common::mpi::agreed(comm, [&] { common::check_output_particles(local, path); });  // exit 3, nothing written
+  // the file's order: materials in slot order, ids ascending (as the serial checkpoint)
+  std::vector<RowKey> keys(ps.size());
+  for (std::size_t m = 0; m < mats.size(); ++m)
+    for (std::size_t p = mats[m].begin; p < mats[m].end; ++p) keys[p] = {m, ps.id[p]};
+  const SortedRows plan(comm, keys);
+  const common::ParticleSnapshot snap = common::mpi::sorted_block(comm, plan, local, path);
+  const bool optional = !comm.all(!uses_optional_arrays(ps));
+  ParticleSet set;
+  ParticleSet::for_each_array([&](const auto& a) {
+    if (!a.info.optional || optional) set.*a.member = plan.move((ps.*a.member).data(), static_cast<std::size_t>(a.info.width));
+  });
+  const std::vector<std::int32_t> rank = plan.move(std::vector<std::int32_t>(ps.size(), comm.rank), 1);
+  std::vector<std::uint64_t> index(ps.size());
+  for (std::size_t p = 0; p < ps.size(); ++p) index[p] = p;
+  index = plan.move(index, 1);
+  // each material's state: the rows of its own order (ids ascending), block by block
+  std::vector<MaterialSlot> slots(mats.size());
+  std::vector<std::pair<std::size_t, std::size_t>> slot_rows(mats.size());  // (offset, total)
+  std::size_t begin = 0, state_bytes = 0;
+  for (std::size_t m = 0; m < mats.size(); ++m) {
+    std::vector<RowKey> mk;
+    for (std::size_t p = mats[m].begin; p < mats[m].end; ++p) mk.push_back({0, ps.id[p]});
+    const SortedRows pm(comm, mk);
+    slots[m].name = mats[m].name;
+    slots[m].style = mats[m].style;
+    slots[m].state.resize(mats[m].state.size());
+    for (std::size_t k = 0; k < mats[m].state.size(); ++k) {
+      const std::size_t nc = static_cast<std::size_t>(mats[m].style->state_fields[k].ncomp);
+      slots[m].state[k] = pm.move(mats[m].state[k].data(), nc);
+      state_bytes += 8 * nc * pm.total();
+    }
+    slot_rows[m] = {pm.offset(), pm.total()};
+    slots[m].begin = begin;
+    slots[m].end = begin += pm.total();
+  }
+  bool outflow_optional = false;
+  const std::vector<double> rank_totals = outflow_on_root(dom, r, outflow_optional);
+  long long no = static_cast<long long>(r.outflow.size());
+  MPI_Bcast(&no, 1, MPI_LONG_LONG, 0, comm.c);
+  DriverState d = driver;
+  d.series = comm.bcast(driver.series);  // rank 0's series text
+  std::size_t out_row = set_row_bytes(outflow_optional) + 8;
+  for (const common::Field& f : r.outflow_fields) out_row += 8 * f.ncomp;
+  const std::uintmax_t bytes = common::mpi::particle_file_bytes(local, plan.total()) +
+                               (set_row_bytes(optional) + 12) * plan.total() + state_bytes +
+                               out_row * static_cast<std::size_t>(no) + d.series.size() + 16384 * (40 + 4 * mats.size());
+  common::mpi::ParallelFile file(comm, path, bytes);
+  CheckpointRows rows;
+  rows.particles = file.rows(plan.offset(), plan.total());
+  for (const auto& [off, tot] : slot_rows) rows.slots.push_back(file.rows(off, tot));
+  rows.outflow_total = static_cast<std::size_t>(no);
+  rows.single_writer = comm.rank == 0;
+  rows.xfer = file.rows(0, 0).xfer;
+  rows.optional_arrays = optional;
+  rows.outflow_optional = outflow_optional;
+  bool ok = common::write_particle_content(file.id(), snap, prov, rows.particles);
+  ok = write_mpm_state(file.id(), set, slots, r, d, identity, rows) && ok;
+  {  // /mpm_state/mpi: the cuts and where each particle was (a restart on as many ranks)
+    h5::Handle g = h5::create_group(file.id(), "mpm_state/mpi");
+    const std::vector<int>& cut = dom.slabs().cut;
+    h5::write_attr(g, "ranks", static_cast<std::int64_t>(cut.size() - 1));
+    h5::write_attr(g, "cuts", std::vector<std::int64_t>(cut.begin(), cut.end()));
+    ok = h5::write_dataset_rows(g, "rank", rank.data(), rank.size(), 1, "1", rows.particles) && ok;
+    ok = h5::write_dataset_rows(g, "index", index.data(), index.size(), 1, "1", rows.particles) && ok;
+    const std::size_t nt = pack_totals(Diagnostics{}).size(), nr = static_cast<std::size_t>(comm.size);
+    ok = h5::write_dataset_rows(g, "outflow_totals", rank_totals.data(), rows.single_writer ? nr : 0, nt, "SI",
+                                file.rows(0, nr)) && ok;
+  }
+  file.commit(ok);
+  if (comm.rank == 0) common::write_particle_xdmf(path, snap, plan.total());
+}
+
+}  // namespace mpmfrag::mpi

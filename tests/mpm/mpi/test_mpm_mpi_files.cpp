@@ -1,0 +1,178 @@
+/// @file test_mpm_mpi_files.cpp
+/// mpm-frag's checkpoints written collectively with parallel HDF5 (mpi/checkpoint_mpi.hpp;
+/// label mpi, part of test_mpm_mpi) under mpirun -np 2 and -np 3:
+///   - the file equals, by h5diff (every dataset, attribute and unit; provenance aside), the one
+///     the former writer made: every particle, its material state and the outflow record gathered
+///     to rank 0 and written by the serial checkpoint writer plus /mpm_state/mpi. Two scenes: the
+///     Tonge–Ramesh impact with artificial viscosity (the optional array q) mid-run, and the
+///     outflow flyers when half have left (a non-empty outflow record gathered from every rank);
+///   - a file-size limit (a full disk) throws IoError on every rank, and the earlier checkpoint
+///     stays byte for byte with no temporary file left beside it;
+///   - a non-finite value on one rank throws NumericalError on every rank and writes nothing.
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+
+#include "common/h5.hpp"
+#include "common/status.hpp"
+#include "mpi_test_helpers.hpp"
+#include "mpm/checkpoint.hpp"
+#include "mpm/mpi/checkpoint_mpi.hpp"
+
+using namespace mpmfrag;
+using namespace mpmtest;
+namespace fs = std::filesystem;
+
+namespace {
+
+const common::Provenance kProv{"mpm-frag", "test", "test", "test", ""};
+
+/// A directory shared by the ranks (rank 0 makes it), removed at the end of the test.
+struct SharedDir {
+  std::string path;
+  SharedDir() {
+    char tmpl[] = "/tmp/mpm_mpi_files.XXXXXX";
+    std::string p = rank() == 0 ? std::string(::mkdtemp(tmpl)) : std::string();
+    path = mpi::Comm(MPI_COMM_WORLD).bcast(p);
+  }
+  ~SharedDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank() == 0) fs::remove_all(path);
+  }
+};
+
+/// A driver state with rank 0's series text (the other ranks' is empty, as in run_mpi.cpp).
+DriverState driver(DomainSolver& dom) {
+  DriverState d;
+  d.next_snapshot = 1.5e-4;
+  d.first_dt = 1e-7;
+  d.min_dt = 9e-8;
+  d.max_dt = 2e-7;
+  d.initial = dom.diagnostics();
+  if (rank() == 0) d.series = "step,time\n0,0\n10,1e-06\n";
+  return d;
+}
+
+/// The former writer: everything gathered to rank 0, the serial writer, /mpm_state/mpi.
+void write_gathered(DomainSolver& dom, const std::string& path, const DriverState& d) {
+  ParticleSet ps;
+  std::vector<MaterialSlot> mats;
+  mpi::Layout layout;
+  dom.gather(0, ps, mats, &layout);
+  SolverResume r = dom.local().resume_state();
+  mpi::OutflowRecord out = dom.gather_outflow(0);
+  if (rank() != 0) return;
+  r.outflow = std::move(out.ps);
+  r.outflow_time = std::move(out.time);
+  r.outflow_fields = std::move(out.fields);
+  r.outflow_init = std::move(out.init);
+  r.outflow_totals = out.totals;
+  auto hook = [&](long long fid) {
+    namespace h5 = common::h5;
+    h5::Handle g = h5::create_group(static_cast<hid_t>(fid), "mpm_state/mpi");
+    h5::write_attr(g, "ranks", static_cast<std::int64_t>(layout.cut.size() - 1));
+    h5::write_attr(g, "cuts", std::vector<std::int64_t>(layout.cut.begin(), layout.cut.end()));
+    h5::write_dataset(g, "rank", layout.rank.data(), layout.rank.size(), 1, "1");
+    h5::write_dataset(g, "index", layout.index.data(), layout.index.size(), 1, "1");
+    const std::size_t nt = pack_totals(Diagnostics{}).size();
+    h5::write_dataset(g, "outflow_totals", out.rank_totals.data(), out.rank_totals.size() / nt, nt, "SI");
+  };
+  write_checkpoint(path, ps, mats, dom.local().grid(), r, d, kProv, "", hook);
+}
+
+/// Run `setup` to t on every rank, write the checkpoint both ways, h5diff on rank 0.
+void expect_equal_to_gathered(const Setup& setup, double t, mpi::DomainOptions opt, std::size_t min_outflow, bool q) {
+  SharedDir dir;
+  DomainSolver dom(MPI_COMM_WORLD, setup, opt);
+  dom.initialize();
+  const DriverState d = driver(dom);
+  run_domain(dom, t);
+  const std::string par = dir.path + "/parallel.h5", ser = dir.path + "/gathered.h5";
+  mpi::write_checkpoint_mpi(dom, par, d, kProv, "");
+  write_gathered(dom, ser, d);
+  if (rank() != 0) return;
+  const Checkpoint ck = read_checkpoint(par);
+  EXPECT_GE(ck.solver.outflow.size(), min_outflow);
+  EXPECT_EQ(ck.particles.q.size(), q ? ck.particles.size() : 0u) << "artificial viscosity's q";
+  EXPECT_EQ(ck.driver.series, d.series);
+  const std::string cmd = "h5diff --exclude-path /provenance " + ser + " " + par;
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  EXPECT_TRUE(fs::exists(dir.path + "/parallel.xmf"));
+}
+
+/// The Tonge–Ramesh impact on every rank at 20 us, and its driver state.
+struct ImpactAt20us {
+  DomainSolver dom{MPI_COMM_WORLD, impact_setup(), impact_options()};
+  DriverState d;
+  ImpactAt20us() {
+    dom.initialize();
+    d = driver(dom);
+    run_domain(dom, 2e-5);
+  }
+};
+
+std::string bytes_of(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace
+
+TEST(MpmMpiFiles, CheckpointOfTheImpactEqualsTheGatheredFile) {
+  expect_equal_to_gathered(impact_setup(), 8e-5, impact_options(), 0, true);
+}
+
+TEST(MpmMpiFiles, CheckpointWithTheOutflowRecordEqualsTheGatheredFile) {
+  expect_equal_to_gathered(outflow_setup(), 7.5e-5, mpi::DomainOptions{}, 100, false);
+}
+
+TEST(MpmMpiFiles, FullDiskKeepsTheEarlierCheckpoint) {
+  SharedDir dir;
+  ImpactAt20us run;
+  DomainSolver& dom = run.dom;
+  const DriverState& d = run.d;
+  const std::string path = dir.path + "/ck.h5";
+  mpi::write_checkpoint_mpi(dom, path, d, kProv, "");
+  const std::string before = rank() == 0 ? bytes_of(path) : std::string();
+  run_domain(dom, 4e-5);
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ::getrlimit(RLIMIT_FSIZE, &old);
+  rlimit lim = old;
+  lim.rlim_cur = 64 * 1024;  // the checkpoint is ~1 MB
+  ::setrlimit(RLIMIT_FSIZE, &lim);
+  EXPECT_THROW(mpi::write_checkpoint_mpi(dom, path, d, kProv, ""), common::IoError);
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() != 0) return;
+  EXPECT_EQ(bytes_of(path), before) << "the earlier checkpoint must stay as it was";
+  std::size_t files = 0;
+  for (const auto& e : fs::directory_iterator(dir.path)) files += e.path().extension() != ".xmf";
+  EXPECT_EQ(files, 1u) << "no temporary file may be left";
+}
+
+TEST(MpmMpiFiles, NonFiniteValueOnOneRankWritesNothing) {
+  SharedDir dir;
+  ImpactAt20us run;
+  DomainSolver& dom = run.dom;
+  const DriverState& d = run.d;
+  // inject the fault on the last rank only (a test of the error path, not a solver state)
+  auto& ps = const_cast<ParticleSet&>(dom.local().particles());
+  if (rank() == ranks() - 1) {
+    ASSERT_GT(ps.size(), 0u);
+    ps.v[0] = std::numeric_limits<double>::quiet_NaN();
+  }
+  const std::string path = dir.path + "/ck.h5";
+  EXPECT_THROW(mpi::write_checkpoint_mpi(dom, path, d, kProv, ""), common::NumericalError);
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (rank() == 0) {
+    EXPECT_TRUE(fs::is_empty(dir.path));
+  }
+}
