@@ -79,7 +79,7 @@ enum class Kind { real, integer, uint64 };
 
 template <class T>
 std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std::size_t cols,
-                        const std::string& file, hid_t mem_type, Kind kind) {
+                        const std::string& file, hid_t mem_type, Kind kind, const RowRange* range = nullptr) {
   if (!exists(loc, name)) throw InputError(file, name, "required dataset is missing");
   Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT));
   if (!ds.valid()) throw InputError(file, name, "cannot open dataset (corrupt file?)");
@@ -103,6 +103,20 @@ std::vector<T> read_any(hid_t loc, const std::string& name, long long rows, std:
   if (!shape_ok)
     throw InputError(file, name, "wrong shape " + shape_str(d) + ", expected " + expect_str(rows, cols));
   detail::check_declared_size(ds, type, nd >= 1 ? d[0] * cols : 0, file, name);
+  if (range) {  // rows [offset, offset + count) only
+    if (range->offset + range->count > d[0])
+      throw InputError(file, name, "rows [" + std::to_string(range->offset) + ", " +
+                                       std::to_string(range->offset + range->count) + ") requested of " + std::to_string(d[0]));
+    std::vector<T> part;
+    common::resize_huge(part, range->count * cols);
+    if (part.empty()) return part;
+    hsize_t start[2] = {range->offset, 0}, count[2] = {range->count, cols};
+    Handle mem(H5Screate_simple(nd, count, nullptr));
+    if (H5Sselect_hyperslab(space, H5S_SELECT_SET, start, nullptr, count, nullptr) < 0 ||
+        H5Dread(ds, mem_type, mem, space, H5P_DEFAULT, part.data()) < 0)
+      throw InputError(file, name, "cannot read dataset (truncated or corrupt file?)");
+    return part;
+  }
   std::vector<T> out;
   common::resize_huge(out, nd >= 1 ? d[0] * cols : 0);  // large datasets: fewer first-touch faults
   if (!out.empty() && H5Dread(ds, mem_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0)
@@ -365,6 +379,19 @@ std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long
 std::vector<std::int64_t> read_i64(hid_t loc, const std::string& name, long long rows,
                                    std::size_t cols, const std::string& file) {
   return read_any<std::int64_t>(loc, name, rows, cols, file, H5T_NATIVE_INT64, Kind::integer);
+}
+
+std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                 const std::string& file, const RowRange& range) {
+  return read_any<double>(loc, name, rows, cols, file, H5T_NATIVE_DOUBLE, Kind::real, &range);
+}
+std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                    const std::string& file, const RowRange& range) {
+  return read_any<std::uint64_t>(loc, name, rows, cols, file, H5T_NATIVE_UINT64, Kind::uint64, &range);
+}
+std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                   const std::string& file, const RowRange& range) {
+  return read_any<std::int32_t>(loc, name, rows, cols, file, H5T_NATIVE_INT32, Kind::integer, &range);
 }
 
 std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string& file) {

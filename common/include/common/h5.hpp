@@ -109,6 +109,19 @@ std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long
                                    std::size_t cols, const std::string& file);
 std::vector<std::int64_t> read_i64(hid_t loc, const std::string& name, long long rows,
                                    std::size_t cols, const std::string& file);
+/// Rows [offset, offset + count) of a dataset: one process's part of a file (a restart on
+/// several MPI ranks, each reading its own block independently). The same checks as the whole
+/// read (dtype, shape, `rows` expected in all); InputError if the range exceeds the dataset.
+struct RowRange {
+  std::size_t offset = 0;
+  std::size_t count = 0;
+};
+std::vector<double> read_doubles(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                 const std::string& file, const RowRange& range);
+std::vector<std::uint64_t> read_u64(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                    const std::string& file, const RowRange& range);
+std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long rows, std::size_t cols,
+                                   const std::string& file, const RowRange& range);
 /// Shape of a dataset (throws InputError if absent).
 std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string& file);
 /// The `unit` attribute of a dataset ("" if absent).

@@ -19,6 +19,7 @@
 ///   series                      the series CSV written so far (header and rows), bytes packed
 ///                               8 per uint64 word (little-endian), `series_bytes` long
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -44,10 +45,11 @@ struct MaterialState {
   std::vector<std::pair<std::string, std::vector<double>>> fields;
 };
 
-/// A checkpoint read back.
+/// A checkpoint read back (whole, or one process's part: read_checkpoint_part).
 struct Checkpoint {
-  ParticleSet particles;
-  std::vector<MaterialState> materials;
+  ParticleSet particles;                 ///< the file's particle rows [first, first + size)
+  std::size_t first = 0, total = 0;      ///< the first of them, and the file's particle count
+  std::vector<MaterialState> materials;  ///< ranges relative to `particles`
   SolverResume solver;
   DriverState driver;
   std::string identity;  ///< run identity text (common::RunIdentity)
@@ -67,6 +69,21 @@ void write_checkpoint(const std::string& path, const ParticleSet& ps, const std:
 /// Read and validate a checkpoint. Throws InputError naming the file (and dataset). `extra`
 /// reads further groups (called with the open file after /mpm_state was read).
 Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra = {});
+
+/// The part of a checkpoint that process `index` of `count` reads (a restart on MPI ranks, each
+/// rank reading its own rows independently, so no rank holds every particle): the particle rows
+/// [first, first + n) with first = total * index / count, each material's state rows among
+/// them, the scalars, and, if `records`, the outflow record and the series (one process).
+struct CheckpointPart {
+  int index = 0;
+  int count = 1;
+  bool records = true;
+};
+/// Read `part` of a checkpoint: the same checks as read_checkpoint on /mpm_state (the data of the
+/// snapshot part is not read; its row count and step must match). Throws InputError. `extra`
+/// reads further groups, given the open file and the part read so far (its rows).
+using PartHook = std::function<void(long long file, const Checkpoint& part)>;
+Checkpoint read_checkpoint_part(const std::string& path, const CheckpointPart& part, const PartHook& extra = {});
 
 /// The 16 numbers of a Diagnostics as a checkpoint stores them (initial_totals): mass, momentum
 /// (3), angular momentum (3), kinetic, internal, removed count, removed mass, work_dev,

@@ -209,22 +209,7 @@ void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>&
     unpack_particles(all[r], mats, with_q, in);
     first[r + 1] = in.ps.size();
   }
-  // sort the arrivals of each material by id: a file independent of the rank count
-  for (std::vector<std::size_t>& idx : in.index) {
-    std::vector<std::size_t> order(idx.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return in.ps.id[idx[x]] < in.ps.id[idx[y]]; });
-    std::vector<std::size_t> sorted(idx.size());
-    for (std::size_t i = 0; i < idx.size(); ++i) sorted[i] = idx[order[i]];
-    const std::size_t m = static_cast<std::size_t>(&idx - in.index.data());
-    for (std::vector<double>& st : in.state[m]) {
-      const std::size_t nc = idx.empty() ? 0 : st.size() / idx.size();
-      std::vector<double> t(st.size());
-      for (std::size_t i = 0; i < idx.size(); ++i) std::copy_n(st.begin() + nc * order[i], nc, t.begin() + nc * i);
-      st.swap(t);
-    }
-    idx.swap(sorted);
-  }
+  sort_arrivals(in, in.ps.id);  // each material by id: a file independent of the rank count
   merge_particles(ps, mats, std::vector<char>(ps.size(), 0), in, out, out_mats);
   if (!layout) return;
   layout->cut = slabs_.cut;

@@ -11,6 +11,7 @@
 /// kept particles in index order, then the arrivals in (source rank, sender order).
 #include <algorithm>
 #include <cstring>
+#include <numeric>
 
 #include "mpm/mpi/domain.hpp"
 
@@ -64,6 +65,24 @@ void unpack_particles(const std::vector<char>& buf, const std::vector<MaterialSl
     });
     for (std::size_t f = 0; f < in.state[m].size(); ++f)
       for (std::size_t c = 0; c < ncomp(mats[m], f); ++c) in.state[m][f].push_back(get<double>(buf, off));
+  }
+}
+
+void sort_arrivals(Arrivals& in, const std::vector<std::uint64_t>& key) {
+  for (std::size_t m = 0; m < in.index.size(); ++m) {
+    std::vector<std::size_t>& idx = in.index[m];
+    std::vector<std::size_t> order(idx.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) { return key[idx[x]] < key[idx[y]]; });
+    std::vector<std::size_t> sorted(idx.size());
+    for (std::size_t i = 0; i < idx.size(); ++i) sorted[i] = idx[order[i]];
+    for (std::vector<double>& st : in.state[m]) {
+      const std::size_t nc = idx.empty() ? 0 : st.size() / idx.size();
+      std::vector<double> t(st.size());
+      for (std::size_t i = 0; i < idx.size(); ++i) std::copy_n(st.begin() + nc * order[i], nc, t.begin() + nc * i);
+      st.swap(t);
+    }
+    idx.swap(sorted);
   }
 }
 

@@ -15,6 +15,7 @@
 #include <optional>
 #include <string>
 
+#include "common/agreed.hpp"
 #include "common/run_identity.hpp"
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
@@ -43,13 +44,9 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   Comm comm(MPI_COMM_WORLD);
   DriverState drv;
   if (!restart.empty()) {
-    RestartData rd = read_checkpoint_mpi(comm, restart, ident);
-    if (rank == 0) {
-      apply_materials(rd.ck, st.materials, restart);
-      st.particles = std::move(rd.ck.particles);
-    } else {
-      st.particles = ParticleSet{};
-    }
+    RestartData rd = read_checkpoint_mpi(comm, restart, ident);  // each rank its part of the rows
+    common::mpi::agreed(comm, [&] { apply_materials(rd.ck, st.materials, restart); });
+    st.particles = std::move(rd.ck.particles);
     domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, rd.layout);
     resume(*domp, rd);
     drv = std::move(rd.ck.driver);

@@ -176,3 +176,49 @@ TEST(MpmMpiFiles, NonFiniteValueOnOneRankWritesNothing) {
     EXPECT_TRUE(fs::is_empty(dir.path));
   }
 }
+
+// A restart on several ranks reads the checkpoint in parts (read_checkpoint_part): the parts of
+// any count tile the whole read exactly (every array, every material's state rows and ranges),
+// and only the first carries the outflow record and the series.
+TEST(MpmMpiFiles, CheckpointPartsTileTheWholeFile) {
+  SharedDir dir;
+  ImpactAt20us run;
+  const std::string path = dir.path + "/ck.h5";
+  mpi::write_checkpoint_mpi(run.dom, path, run.d, kProv, "");
+  if (rank() != 0) return;
+  const Checkpoint whole = read_checkpoint(path);
+  ASSERT_GT(whole.particles.size(), 100u);
+  for (const int parts : {1, 2, 3, 7}) {
+    ParticleSet cat;
+    std::vector<std::vector<std::vector<double>>> state(whole.materials.size());
+    for (int i = 0; i < parts; ++i) {
+      const Checkpoint p = read_checkpoint_part(path, CheckpointPart{i, parts, i == 0});
+      EXPECT_EQ(p.first, cat.size()) << parts << " parts, part " << i;
+      EXPECT_EQ(p.total, whole.particles.size());
+      EXPECT_EQ(p.driver.series.empty(), i != 0);
+      EXPECT_EQ(p.solver.step, whole.solver.step);
+      ParticleSet::for_each_array([&](const auto& a) {
+        const auto& v = p.particles.*a.member;
+        (cat.*a.member).insert((cat.*a.member).end(), v.begin(), v.end());
+      });
+      ASSERT_EQ(p.materials.size(), whole.materials.size());
+      for (std::size_t m = 0; m < p.materials.size(); ++m) {
+        const MaterialState& s = p.materials[m];
+        EXPECT_LE(s.begin, s.end);
+        EXPECT_LE(s.end, p.particles.size());
+        state[m].resize(s.fields.size());
+        for (std::size_t f = 0; f < s.fields.size(); ++f)
+          state[m][f].insert(state[m][f].end(), s.fields[f].second.begin(), s.fields[f].second.end());
+      }
+    }
+    EXPECT_EQ(cat.id, whole.particles.id) << parts << " parts";
+    EXPECT_EQ(cat.x, whole.particles.x);
+    EXPECT_EQ(cat.F, whole.particles.F);
+    EXPECT_EQ(cat.q, whole.particles.q);
+    EXPECT_EQ(cat.material, whole.particles.material);
+    for (std::size_t m = 0; m < whole.materials.size(); ++m)
+      for (std::size_t f = 0; f < whole.materials[m].fields.size(); ++f)
+        EXPECT_EQ(state[m][f], whole.materials[m].fields[f].second) << parts << " parts, material " << m << " field " << f;
+  }
+  EXPECT_THROW(read_checkpoint_part(path, CheckpointPart{3, 3, false}), std::logic_error);
+}

@@ -121,12 +121,8 @@ Result restart_and_run(int m, const std::string& path) {
     mpi::Comm comm(c);
     mpi::RestartData rd = mpi::read_checkpoint_mpi(comm, path, common::RunIdentity{});
     Setup st = impact_setup();
-    if (comm.rank == 0) {
-      apply_materials(rd.ck, st.materials, path);
-      st.particles = std::move(rd.ck.particles);
-    } else {
-      st.particles = ParticleSet{};
-    }
+    apply_materials(rd.ck, st.materials, path);  // each rank its part of the file's rows
+    st.particles = std::move(rd.ck.particles);
     DomainSolver dom(c, st, rd.layout, impact_options());
     mpi::resume(dom, rd);
     r = finish(dom);

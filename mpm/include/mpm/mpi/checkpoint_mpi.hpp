@@ -21,15 +21,18 @@
 /// while the other ranks join with no rows; drive loads do not exist on several ranks. A value
 /// that is not finite on any rank throws NumericalError on every rank and writes nothing.
 ///
-/// Reading (collective): rank 0 reads the file (and checks the run identity); the scalars of
-/// SolverResume and DriverState are broadcast; the particles are distributed by
-/// DomainSolver(comm, setup, layout): on N ranks each rank gets back its particles in their order
+/// Reading (collective): every rank opens the file and reads its own part of the rows
+/// independently (mpm/checkpoint.hpp read_checkpoint_part: rows [n r / M, n (r+1) / M) of the
+/// particles, of /mpm_state/mpi and of each material's state among them; the scalars; rank 0 also
+/// the outflow record and the series), so no rank holds every particle, and checks the run
+/// identity; DomainSolver(comm, setup, layout) then sends each particle to its rank with its order
+/// key there (one alltoallv): on N ranks each rank gets back its particles in their order
 /// and the cuts (bit-identical continuation); on M != N ranks (or from a serial checkpoint) the
 /// cuts balance the particle count and each rank keeps the file order (agreement with the
 /// uninterrupted run to round-off: the nodal sums are added in another order).
 ///
-/// Errors while reading on rank 0 (a bad file, another run's checkpoint) are broadcast and thrown
-/// on every rank with the same type (exit codes 2 / 4 on every rank; common/agreed.hpp).
+/// Errors while reading (a bad file, another run's checkpoint) are thrown on every rank with the
+/// same type and the lowest failing rank's message (exit codes 2 / 4; common/agreed.hpp).
 #pragma once
 #include <string>
 
@@ -48,12 +51,12 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
 
 /// A checkpoint read for a restart on MPI ranks.
 struct RestartData {
-  Checkpoint ck;  ///< rank 0: all of it; other ranks: the scalars of ck.solver and ck.driver
-  Layout layout;  ///< rank 0: the ranks that wrote it (empty for a serial checkpoint)
+  Checkpoint ck;  ///< this rank's part (rank 0 also the outflow record and the series)
+  Layout layout;  ///< the ranks that wrote this part's particles (no cuts: a serial checkpoint)
 };
 
-/// Read `path` on rank 0 and broadcast its scalars; InputError on every rank if it is not a
-/// checkpoint or another run's (identity `ident`).
+/// Every rank reads its part of `path`; InputError on every rank if it is not a checkpoint or
+/// another run's (identity `ident`).
 RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const common::RunIdentity& ident);
 
 /// Continue `dom` (built from `rd` by DomainSolver(comm, setup, rd.layout)) with the solver's

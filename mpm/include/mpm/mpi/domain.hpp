@@ -52,8 +52,8 @@
 /// ## Not yet (first step)
 /// Snapshots and checkpoints are written by every rank together with collective parallel HDF5
 /// (snapshot_mpi.hpp, checkpoint_mpi.hpp: the serial layout, particles sorted by id within each
-/// material; restart on any rank count), but the outflow record is gathered to rank 0 and a
-/// restart reads the checkpoint on rank 0; no velocity-driven bodies; every rank builds the full scene
+/// material; a restart on any rank count reads each rank's part of the rows), but the outflow
+/// record is gathered to rank 0; no velocity-driven bodies; every rank builds the full scene
 /// and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
 /// would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
@@ -127,16 +127,20 @@ struct Arrivals {
   std::vector<std::vector<std::vector<double>>> state;       ///< per material, per field: rows
 };
 void unpack_particles(const std::vector<char>& buf, const std::vector<MaterialSlot>& mats, bool with_q, Arrivals& in);
+/// Order each material's arrivals by key[k] (k: row of in.ps; keys unique), state rows alike.
+void sort_arrivals(Arrivals& in, const std::vector<std::uint64_t>& key);
 /// The kept particles (keep[p]) followed, per material, by the arrivals.
 void merge_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mats, const std::vector<char>& keep,
                      const Arrivals& in, ParticleSet& out, std::vector<MaterialSlot>& out_mats);
 
-/// Where each particle of a gathered set came from (DomainSolver::gather): its rank and its index
-/// there, with the cuts. A restart on as many ranks rebuilds every rank's particles in the same
-/// order from it (the same sums in the same order: bit-identical continuation).
+/// Where each particle of a gathered set (DomainSolver::gather), or of one rank's part of a
+/// checkpoint (checkpoint_mpi.hpp), came from: its rank and its index there, with the cuts. A
+/// restart on as many ranks rebuilds every rank's particles in the same order from it (the same
+/// sums in the same order: bit-identical continuation).
 struct Layout {
-  std::vector<int> cut;              ///< the slab cuts P_0 .. P_R
-  std::vector<std::int32_t> rank;    ///< per particle of the gathered set: its rank
+  std::vector<int> cut;              ///< the slab cuts P_0 .. P_R (empty: a one-rank checkpoint)
+  std::size_t first = 0;             ///< the file row of this rank's first particle (a part)
+  std::vector<std::int32_t> rank;    ///< per particle of the set: its rank
   std::vector<std::uint64_t> index;  ///< per particle: its index on that rank
   std::vector<double> outflow_totals;  ///< per rank: totals of its removed particles (pack_totals)
 };
@@ -160,12 +164,12 @@ class DomainSolver {
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
   /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
-  /// Restart (checkpoint_mpi.cpp): rank 0 holds every particle and the materials' state in
-  /// `setup` (a checkpoint's, in file order), the other ranks' `setup` gives only the materials'
-  /// names, styles and models (its particles are ignored). When `layout` (rank 0) was written on
-  /// as many ranks, every rank gets its particles back in their order and the cuts are the
-  /// layout's; otherwise the cuts balance the particle count and each rank keeps the file order.
-  /// Collective. Follow with local().resume(), not initialize().
+  /// Restart (checkpoint_mpi.cpp): each rank's `setup` holds its part of a checkpoint's
+  /// particles and materials' state (file rows [layout.first, ...), in file order; any split of
+  /// the rows over the ranks, one rank holding all included). When `layout` says the file was
+  /// written on as many ranks, every rank gets its particles back in their order and the cuts
+  /// are the layout's; otherwise the cuts balance the particle count and each rank keeps the file
+  /// order. Collective. Follow with local().resume(), not initialize().
   DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt = {});
   /// Initial stress and wave speeds (collective).
   void initialize() { solver_->initialize(); }
