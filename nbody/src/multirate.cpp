@@ -286,7 +286,7 @@ void Simulation::step_multirate() {
   if (sg && ss.closes) {
     check_state();  // every sphere, before the tree sees the positions (see the end of the step)
     if (cfg_.adaptive_gravity || cfg_.gravity_held) ag_old_ = ag_;
-    compute_gravity(false);
+    compute_gravity(want_pot_);
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();

@@ -369,6 +369,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   std::int64_t next_ckpt = ckpt_every > 0 ? (sim->step_count() / ckpt_every + 1) * ckpt_every : 0;
   try {
     while (sim->step_count() < n_end) {
+      // a row is due at the first block boundary from next_row on: its gravity evaluation gives
+      // the potential too (instead of a second evaluation for the row)
+      sim->want_potential(sim->step_count() + 1 >= std::min(next_row, n_end));
       sim->step();
       const std::int64_t s = sim->step_count();
       if (!sim->at_gravity_boundary()) continue;  // velocities are physical at block boundaries only

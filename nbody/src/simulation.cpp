@@ -205,7 +205,7 @@ void Simulation::step() {
   const bool close_kick = step_ == block_start_ + k;
   if (sg && close_kick) {
     if (cfg_.adaptive_gravity) ag_old_ = ag_;
-    compute_gravity(false);
+    compute_gravity(want_pot_);
   }
   t0 = omp_get_wtime();
   c0 = cpu_now();

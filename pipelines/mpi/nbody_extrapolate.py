@@ -22,6 +22,13 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
                                           base step measured, 15 985 B for 486 ghosts; 145 B before
                                           the halos of the ghosts that changed) and three collectives
                                           (movers' allgather, levels-changed and failure allreduces)
+  rows      r N / R                       a series row every R base steps gathers every sphere to
+                                          rank 0, which computes the row's diagnostics (potential
+                                          by a serial tree evaluation, contacts) for all N: r per
+                                          sphere measured (2 x 1 ranks, 1 km debris: 18.2 ms per
+                                          row for 8 225 spheres); R = output.series_every (the
+                                          pipeline's 200; a row falls on the first gravity-block
+                                          boundary from there: measured 44 rows in 8 491 steps)
 The paper's run: N = 8 225 x 5^3 (200 m cells instead of 1 km), S and E 5x the measured 1 km run's
 (base step proportional to the cell: the kinetic k_n rule), 4.5 h.
 Usage: nbody_extrapolate.py [--c NS] [--b NS] [--w NS] ... (see --help); prints a Markdown table.
@@ -39,13 +46,15 @@ ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="g
 ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
 ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
 ap.add_argument("--mh", type=float, default=33.0, help="halo bytes per ghost and base step (measured)")
+ap.add_argument("--row", type=float, default=2.2, help="us per sphere per series row on rank 0 (measured)")
+ap.add_argument("--series-every", type=float, default=200.0, help="base steps per series row (output.series_every)")
 ap.add_argument("--N", type=float, default=8225 * 125, help="spheres (the paper's 200 m hand-off)")
 ap.add_argument("--steps", type=float, default=5 * 3242057, help="base steps of the 4.5 h run")
 args = ap.parse_args()
 
 rows = ["| ranks P | own n | ghosts g (g/n) | compute µs | gravity µs (build / walk / gather) | "
-        "communication µs | per base step µs | communication share | 4.5 h wall | core-hours |",
-        "|---|---|---|---|---|---|---|---|---|---|"]
+        "communication µs | series rows µs | per base step µs | communication share | 4.5 h wall | core-hours |",
+        "|---|---|---|---|---|---|---|---|---|---|---|"]
 for P in (64, 512, 4096):
     n = args.N / P
     g = args.kg * n ** (2 / 3)
@@ -56,11 +65,12 @@ for P in (64, 512, 4096):
     gather = e * args.N * 32 / (args.bw * 1e3)
     grav = build + walk + gather
     comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
-    tot = comp + grav + comm
+    rows_us = args.row * args.N / args.series_every
+    tot = comp + grav + comm + rows_us
     wall_h = tot * 1e-6 * args.steps / 3600
     rows.append(f"| {P} | {n:.0f} | {g:.0f} ({g / n:.2f}) | {comp:.1f} | {grav:.1f} ({build:.1f} / {walk:.1f} / "
-                f"{gather:.1f}) | {comm:.1f} | {tot:.1f} | {(comm + gather) / tot:.0%} | {wall_h:.2f} h | "
+                f"{gather:.1f}) | {comm:.1f} | {rows_us:.1f} | {tot:.1f} | {(comm + gather) / tot:.0%} | {wall_h:.2f} h | "
                 f"{wall_h * P:.0f} |")
 print(f"N = {args.N:.3g} spheres, {args.steps:.3g} base steps, {args.evals_per_step * args.steps:.3g} gravity "
-      f"evaluations; latency {args.alpha} µs, bandwidth {args.bw} GB/s per rank (assumed)\n")
+      f"evaluations, a series row every {args.series_every:.0f} base steps; latency {args.alpha} µs, bandwidth {args.bw} GB/s per rank (assumed)\n")
 print("\n".join(rows))

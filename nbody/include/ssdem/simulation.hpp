@@ -162,6 +162,13 @@ class Simulation {
   void step();
   /// True when the current step ends a gravity block (velocities are the physical ones there).
   bool at_gravity_boundary() const { return step_ == block_start_; }
+  /// Let the gravity evaluations of the next steps compute each sphere's potential as well (the
+  /// driver's next series row is due: diagnostics() then uses it instead of evaluating gravity
+  /// again; the forces are the same bits either way).
+  void want_potential(bool on) { want_pot_ = on; }
+  /// True if each sphere's potential is that of the current positions (diagnostics() then
+  /// evaluates no gravity).
+  bool potential_current() const { return pot_step_ == step_; }
   /// Length of the current gravity block (steps).
   int gravity_block() const { return block_; }
   /// Blocks never extend past this step (the run's last step); 0 = no limit.
@@ -240,6 +247,7 @@ class Simulation {
   std::vector<Vec3> a_, alpha_, ag_, vpred_, wpred_, F_, T_, a_prev_, alpha_prev_;
   std::vector<double> pot_;
   std::int64_t pot_step_ = -1, grav_step_ = -1;
+  bool want_pot_ = false;  ///< want_potential()
   std::int64_t step_ = 0;
   double time_ = 0.0;
   std::int64_t block_start_ = 0, end_step_ = 0;
