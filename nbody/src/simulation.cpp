@@ -66,6 +66,10 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
     alpha_prev_ = std::move(st.alpha_prev);
   }
   if (contacts_) contacts_->import_history(sp_, st.history);
+  if (cfg_.self_gravity && st.pot.size() == n) {  // the potential of these positions: no evaluation in diagnostics()
+    pot_ = std::move(st.pot);
+    pot_step_ = step_;
+  }
 }
 
 void Simulation::setup() {

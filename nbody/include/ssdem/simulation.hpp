@@ -107,6 +107,9 @@ struct SimState {
   std::vector<std::uint8_t> level;  ///< multi-rate level per sphere (empty: single rate / all 0)
   std::vector<double> tau_prev;     ///< multi-rate: length of each sphere's previous step [s]
   double energy0 = NAN;  ///< the run's Diagnostics::accounted() at its first row [J] (NaN: unknown)
+  /// Each sphere's self-gravity potential at these positions [J/kg] (empty: not computed; not
+  /// in checkpoints): an MPI driver's row passes the distributed evaluation's to diagnostics().
+  std::vector<double> pot;
 };
 
 struct Diagnostics {

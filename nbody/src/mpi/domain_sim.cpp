@@ -111,14 +111,32 @@ void DomainSim::compute_gravity() {
   stats_.bytes_gravity += comm_.bytes_sent - b0;
   ++stats_.gravity_gathers;
   for (const GX& p : all) gsp_.x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
+  std::vector<double>* pot = want_pot_ ? &gpot_ : nullptr;
   if (tree_)
-    tree_->compute(gsp_, gacc_, nullptr, &gmine_);
+    tree_->compute(gsp_, gacc_, pot, &gmine_);
   else
-    direct_gravity(gsp_, cfg_.gravity.G, gacc_);
+    direct_gravity(gsp_, cfg_.gravity.G, gacc_, pot);
   for (std::uint32_t i : own_) ag_[i] = gacc_[gidx_[i]];
   grav_step_ = step_;
+  if (pot) pot_step_ = step_;
   times_.gravity += omp_get_wtime() - t0;
   ++times_.gravity_evals;
+}
+
+std::vector<double> DomainSim::gather_potential() const {
+  if (!cfg_.self_gravity || pot_step_ != step_) return {};  // the same on every rank (global steps)
+  struct GP {
+    std::uint64_t g;
+    double p;
+  };
+  std::vector<GP> mine(own_.size());
+  for (std::size_t k = 0; k < own_.size(); ++k) mine[k] = GP{gidx_[own_[k]], gpot_[gidx_[own_[k]]]};
+  const double b0 = comm_.bytes_sent;
+  const std::vector<GP> all = comm_.gather(mine, 0);
+  stats_.bytes_other += comm_.bytes_sent - b0;
+  std::vector<double> pot(comm_.rank == 0 ? gsp_.size() : 0);
+  for (const GP& q : all) pot[q.g] = q.p;
+  return pot;
 }
 
 void DomainSim::compute_forces(bool initial) {

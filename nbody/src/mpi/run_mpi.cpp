@@ -148,7 +148,8 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   // one gathered state per output step: series row and/or snapshot
   auto output = [&](bool row, bool snap) {
     if (!row && !snap) return;
-    const SimState st = sim->gather_state();
+    SimState st = sim->gather_state();
+    if (row) st.pot = sim->gather_potential();  // the block's own evaluation: no serial one on rank 0
     const LevelStats ls = row ? sim->gather_level_stats() : LevelStats{};
     on_root(comm, [&] {
       if (row && levels) {
@@ -189,6 +190,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   std::int64_t next_ckpt = ckpt_every > 0 ? (sim->step_count() / ckpt_every + 1) * ckpt_every : 0;
   try {
     while (sim->step_count() < n_end) {
+      sim->want_potential(sim->step_count() + 1 >= std::min(next_row, n_end));  // as run.cpp
       sim->step();
       const std::int64_t s = sim->step_count();
       if (!sim->at_gravity_boundary()) continue;

@@ -93,6 +93,12 @@ class DomainSim {
 
   void step();
   bool at_gravity_boundary() const { return step_ == block_start_; }
+  /// As Simulation::want_potential: the next gravity evaluations also give each own sphere's
+  /// potential (the same bits as one rank's), for the driver's next series row.
+  void want_potential(bool on) { want_pot_ = on; }
+  /// Collective: every sphere's potential at the current positions on rank 0 (global order), if
+  /// the last evaluation computed it at this step; else empty (on every rank alike).
+  std::vector<double> gather_potential() const;
   int gravity_block() const { return block_; }
   void set_end_step(std::int64_t s) { end_step_ = s; }
   std::int64_t step_count() const { return step_; }
@@ -191,6 +197,9 @@ class DomainSim {
   Spheres gsp_;
   std::vector<std::uint8_t> gmine_;
   std::vector<Vec3> gacc_;
+  std::vector<double> gpot_;  ///< potential of the own spheres (global order) when want_pot_
+  bool want_pot_ = false;
+  std::int64_t pot_step_ = -1;
   std::vector<common::Field> carried_;  // rank 0: carried per-sphere fields (global order)
   std::unique_ptr<ContactSystem> contacts_;
   std::unique_ptr<TreeGravity> tree_;
