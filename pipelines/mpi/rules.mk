@@ -8,6 +8,8 @@
 #                       MPI_PAPER_TIME s, 1 x 2 against 2 x 1 (interleaved, MPI_SCALING_REPS rounds),
 #                       phases, communication, equalisation rounds and an h5diff of the two final
 #                       checkpoints (runs/nbody-mpi-paper-scaling/scaling.md)
+#   mpm-mpi-files-bench : mpm-frag's collective files: memory and wall against MPM_FILES_OLD
+#   nbody-rows-bench    : ms per series row of ssdem-grav, serial and on 2 ranks
 #   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
 #                       paper's 10^6 spheres on 64, 512 and 4 096 ranks (stated model, seconds)
 # Included by pipelines/Makefile (ROOT, PY, JOBS, MPI_BUILD, build-mpi).
@@ -37,3 +39,26 @@ nbody-mpi-paper-scaling: build-mpi ## multi-rate on MPI: paper-method debris, 1 
 .PHONY: nbody-mpi-extrapolate
 nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks from the measured 2-rank figures
 	$(PY) $(ROOT)/pipelines/mpi/nbody_extrapolate.py
+
+# mpm-frag's files on MPI ranks (issue 19 item 4): peak memory per rank and wall of a 203 050-
+# particle run writing snapshots and checkpoints (2 ranks) and of its restart (2 and 3 ranks),
+# this build against MPM_FILES_OLD (an MPI mpm-frag of another commit, e.g. built in a `git
+# worktree`), interleaved MPI_SCALING_REPS times; runs/mpm-mpi-files/files.md.
+.PHONY: mpm-mpi-files-bench
+mpm-mpi-files-bench: build-mpi ## mpm-frag on 2-3 ranks: memory and wall of snapshots, checkpoints, restart vs MPM_FILES_OLD
+	@test -n "$(MPM_FILES_OLD)" || { echo "set MPM_FILES_OLD=<an MPI mpm-frag of another commit>"; exit 2; }
+	$(ROOT)/pipelines/mpi/mpm_files_bench.sh $(MPI_BUILD)/mpm/mpm-frag $(MPM_FILES_OLD) $(RUNS)/mpm-mpi-files \
+	  $(MPI_SCALING_REPS) $(MPIRUN)
+
+# Cost of ssdem-grav's series rows, serial and on 2 ranks (issues 15, 19), this build against
+# NBODY_ROWS_OLD / NBODY_ROWS_OLD_MPI (default: this build itself); runs/nbody-rows/rows.md.
+.PHONY: nbody-rows-bench
+nbody-rows-bench: build-mpi ## ms per series row of ssdem-grav, serial 1x2 and MPI 2x1, on the 1 km paper debris
+	cmake --build $(BUILD) --target ssdem-grav mpm2spheres -j $(JOBS)
+	test -f $(DEMO1K)/fragment/done || $(MAKE) -f $(ROOT)/pipelines/Makefile $(DEMO1K)/fragment/done $(DEMO1K_SETTINGS)
+	mkdir -p $(RUNS)/nbody-paper $(RUNS)/nbody-rows
+	test -f $(PAPER_SPHERES) || $(BIN_HANDOFF) -i $(DEMO1K)/fragment/final.h5 -o $(PAPER_SPHERES) \
+	  --method paper --coarsen 1 $$(test -f $(DEMO1K)/fragment/frag_outflow.h5 && echo --outflow $(DEMO1K)/fragment/frag_outflow.h5)
+	$(ROOT)/pipelines/mpi/nbody_rows_bench.sh $(PAPER_SPHERES) $(RUNS)/nbody-rows $(MPI_SCALING_REPS) \
+	  $(BUILD)/nbody/ssdem-grav $(or $(NBODY_ROWS_OLD),$(BUILD)/nbody/ssdem-grav) \
+	  $(MPI_BUILD)/nbody/ssdem-grav $(or $(NBODY_ROWS_OLD_MPI),$(MPI_BUILD)/nbody/ssdem-grav) $(MPIRUN)
