@@ -156,6 +156,9 @@ void read_mpm_state(hid_t f, const std::string& path, const CheckpointPart& part
     next = static_cast<std::size_t>(e);
     // its rows among this part's, relative to the part
     const std::size_t lb = std::clamp(static_cast<std::size_t>(b), first, last), le = std::clamp(next, first, last);
+    // the part's rows within the material's [b, e) (none if they do not meet): its state rows
+    const std::size_t lo = std::clamp(first, static_cast<std::size_t>(b), next);
+    const std::size_t hi = std::clamp(last, static_cast<std::size_t>(b), next);
     ms.begin = lb - first;
     ms.end = le - first;
     H5G_info_t info;
@@ -165,7 +168,7 @@ void read_mpm_state(hid_t f, const std::string& path, const CheckpointPart& part
       H5Lget_name_by_idx(sg, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
       const std::string ds = sp + "/" + name;
       ms.fields.emplace_back(name, h5::read_doubles(f, ds, e - b, cols_of(f, ds, path), path,
-                                                    {lb - static_cast<std::size_t>(b), le - lb}));
+                                                    {lo - static_cast<std::size_t>(b), hi - lo}));
     }
     ck.materials.push_back(std::move(ms));
   }

@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 
+#include "common/agreed.hpp"
 #include "common/h5_parallel.hpp"
 #include "common/status.hpp"
 
@@ -45,7 +46,9 @@ void write_particle_snapshot_mpi(Comm& comm, const std::string& path, const Part
   ParallelFile file(comm, path, particle_file_bytes(local, plan.total()));
   const bool ok = write_particle_content(file.id(), block, prov, file.rows(plan.offset(), plan.total()));
   file.commit(ok);
-  if (comm.rank == 0) write_particle_xdmf(path, block, plan.total());
+  agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike
+    if (comm.rank == 0) write_particle_xdmf(path, block, plan.total());
+  });
 }
 
 }  // namespace common::mpi

@@ -140,7 +140,9 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
                                 file.rows(0, nr)) && ok;
   }
   file.commit(ok);
-  if (comm.rank == 0) common::write_particle_xdmf(path, snap, plan.total());
+  common::mpi::agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike
+    if (comm.rank == 0) common::write_particle_xdmf(path, snap, plan.total());
+  });
 }
 
 }  // namespace mpmfrag::mpi
