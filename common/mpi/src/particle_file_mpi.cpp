@@ -13,7 +13,8 @@ namespace common::mpi {
 ParticleSnapshot sorted_block(Comm& comm, const SortedRows& plan, const ParticleSnapshot& local,
                               const std::string& path) {
   std::string fields;  // every rank writes the same datasets: their names and widths agree
-  for (const Field& f : local.fields) fields += f.name + ":" + std::to_string(f.ncomp) + ";";
+  for (const Field& f : local.fields)  // names, widths, units and descriptions: HDF5 metadata, the same everywhere
+    fields += f.name + ":" + std::to_string(f.ncomp) + ":" + f.unit + ":" + f.description + ";";
   if (!comm.all(comm.bcast(fields) == fields))
     throw std::logic_error("write_particle_snapshot_mpi: the ranks' field lists differ (" + path + ")");
   ParticleSnapshot block;
