@@ -7,13 +7,10 @@
 #include <stdexcept>
 #include <type_traits>
 
-#include "common/finite.hpp"
 #include "common/h5.hpp"
 #include "common/particle_file.hpp"
-#include "common/run_identity.hpp"
 #include "common/status.hpp"
 #include "mpm/checkpoint_rows.hpp"
-#include "mpm/output.hpp"
 
 namespace mpmfrag {
 namespace {

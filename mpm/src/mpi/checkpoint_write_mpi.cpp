@@ -3,6 +3,7 @@
 /// every rank writes its block of the file's rows with collective parallel HDF5; no rank holds
 /// every particle. Reading is in checkpoint_mpi.cpp.
 #include <algorithm>
+#include <numeric>
 
 #include "common/agreed.hpp"
 #include "common/finite.hpp"
@@ -84,7 +85,7 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
   });
   const std::vector<std::int32_t> rank = plan.move(std::vector<std::int32_t>(ps.size(), comm.rank), 1);
   std::vector<std::uint64_t> index(ps.size());
-  for (std::size_t p = 0; p < ps.size(); ++p) index[p] = p;
+  std::iota(index.begin(), index.end(), std::uint64_t{0});
   index = plan.move(index, 1);
   // each material's state: the rows of its own order (ids ascending), block by block
   std::vector<MaterialSlot> slots(mats.size());
@@ -123,7 +124,7 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
   for (const auto& [off, tot] : slot_rows) rows.slots.push_back(file.rows(off, tot));
   rows.outflow_total = static_cast<std::size_t>(no);
   rows.single_writer = comm.rank == 0;
-  rows.xfer = file.rows(0, 0).xfer;
+  rows.xfer = file.xfer();
   rows.optional_arrays = optional;
   rows.outflow_optional = outflow_optional;
   bool ok = common::write_particle_content(file.id(), snap, prov, rows.particles);

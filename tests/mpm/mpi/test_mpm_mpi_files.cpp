@@ -8,7 +8,8 @@
 ///     outflow flyers when half have left (a non-empty outflow record gathered from every rank);
 ///   - a file-size limit (a full disk) throws IoError on every rank, and the earlier checkpoint
 ///     stays byte for byte with no temporary file left beside it;
-///   - a non-finite value on one rank throws NumericalError on every rank and writes nothing.
+///   - a non-finite value on one rank throws NumericalError on every rank and writes nothing;
+///   - a restart reads the file in parts that tile it; a corrupt file is refused on every rank.
 #include <gtest/gtest.h>
 #include <sys/resource.h>
 #include <unistd.h>
@@ -222,4 +223,29 @@ TEST(MpmMpiFiles, CheckpointPartsTileTheWholeFile) {
         EXPECT_EQ(state[m][f], whole.materials[m].fields[f].second) << parts << " parts, material " << m << " field " << f;
   }
   EXPECT_THROW(read_checkpoint_part(path, CheckpointPart{3, 3, false}), std::logic_error);
+}
+
+// A corrupt or truncated checkpoint: every rank reads its own part, and every rank throws the
+// same InputError (exit 2), none waits in a collective. Truncated: the first 64 KiB of a real one.
+TEST(MpmMpiFiles, CorruptCheckpointIsRefusedOnEveryRank) {
+  SharedDir dir;
+  ImpactAt20us run;
+  const std::string good = dir.path + "/ck.h5", cut = dir.path + "/cut.h5", junk = dir.path + "/junk.h5";
+  mpi::write_checkpoint_mpi(run.dom, good, run.d, kProv, "");
+  if (rank() == 0) {
+    const std::string b = bytes_of(good);
+    ASSERT_GT(b.size(), 65536u);
+    std::ofstream(cut, std::ios::binary) << b.substr(0, 65536);
+    std::ofstream(junk, std::ios::binary) << std::string(4096, 'x');
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  mpi::Comm comm(MPI_COMM_WORLD);
+  for (const std::string& path : {cut, junk}) {
+    try {
+      mpi::read_checkpoint_mpi(comm, path, common::RunIdentity{});
+      ADD_FAILURE() << path << " was accepted";
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+  }
 }

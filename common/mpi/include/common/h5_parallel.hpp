@@ -42,6 +42,8 @@ class ParallelFile {
   hid_t id() const { return file_.id(); }
   /// This rank's rows [offset, offset + n) of datasets of `total` rows, collective transfers.
   h5::RowBlock rows(std::size_t offset, std::size_t total) const { return {offset, total, xfer_.id()}; }
+  /// The collective transfer property list.
+  hid_t xfer() const { return xfer_.id(); }
   /// Collective: close the file and rename it into place if `ok` on every rank and the close
   /// succeeded everywhere; else remove it and throw IoError on every rank.
   void commit(bool ok);
