@@ -216,20 +216,22 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   return st;
 }
 
-double ContactSystem::elastic_energy(const Spheres& sp) const {
-  return dispatch_parts(params_.parts, [&](auto parts) {
+void ContactSystem::add_elastic_energy(const Spheres& sp, common::ExactSum& e,
+                                       const std::vector<std::uint8_t>* owned) const {
+  dispatch_parts(params_.parts, [&](auto parts) {
     constexpr unsigned PARTS = decltype(parts)::value;
-    double e = 0.0;
     for (std::size_t p = 0; p < pi_.size(); ++p) {
       if (!ph_.active[p]) continue;
       const std::size_t i = pi_[p], j = pj_[p];
+      if (owned && !(*owned)[i]) continue;
       const double d = (sp.x[j] - sp.x[i]).norm();
       const double x = sp.s[i] + sp.s[j] - d;
       if (x <= 0.0) continue;
       e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[i] * sp.s[j] / (sp.s[i] + sp.s[j]), ph_.row(p));
     }
     const std::size_t nw = walls_.size();
-    for (std::size_t k = 0; k < sp.size() && nw; ++k)
+    for (std::size_t k = 0; k < sp.size() && nw; ++k) {
+      if (owned && !(*owned)[k]) continue;
       for (std::size_t w = 0; w < nw; ++w) {
         const std::size_t s = k * nw + w;
         if (!wh_.active[s]) continue;
@@ -237,7 +239,8 @@ double ContactSystem::elastic_energy(const Spheres& sp) const {
         if (x <= 0.0) continue;
         e += contact_elastic_energy<PARTS>(coeffs_, x, sp.s[k], wh_.row(s), true);
       }
-    return e;
+    }
+    return 0;
   });
 }
 

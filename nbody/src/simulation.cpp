@@ -66,10 +66,6 @@ Simulation::Simulation(SimState st, SimConfig cfg) : cfg_(std::move(cfg)), sp_(s
     alpha_prev_ = std::move(st.alpha_prev);
   }
   if (contacts_) contacts_->import_history(sp_, st.history);
-  if (cfg_.self_gravity && st.pot.size() == n) {  // the potential of these positions: no evaluation in diagnostics()
-    pot_ = std::move(st.pot);
-    pot_step_ = step_;
-  }
 }
 
 void Simulation::setup() {
@@ -305,21 +301,14 @@ Diagnostics Simulation::diagnostics() {
     grav_step_ = gs;
     --times_.gravity_evals;
   }
-  for (std::size_t i = 0; i < n; ++i) {
-    const double m = sp_.m[i];
-    d.kinetic += 0.5 * m * sp_.v[i].squaredNorm();
-    if (contacts_) d.rotational += 0.5 * sp_.inertia(i) * sp_.w[i].squaredNorm();
-    if (cfg_.self_gravity) d.potential_self += 0.5 * m * pot_[i];
-    d.potential_uniform -= m * cfg_.uniform_g.dot(sp_.x[i]);
-    d.dissipated += sp_.dissipated[i];
-    d.momentum += m * sp_.v[i];
-    d.angular_momentum += m * sp_.x[i].cross(sp_.v[i]) + sp_.inertia(i) * sp_.w[i];
-  }
+  DiagnosticSums sums;  // exact: the same bits as the MPI ranks' (diagnostics.hpp)
+  for (std::size_t i = 0; i < n; ++i)
+    sums.add_sphere(sp_, i, contacts_ != nullptr, cfg_.self_gravity ? &pot_[i] : nullptr, cfg_.uniform_g);
   if (contacts_) {
-    d.elastic = contacts_->elastic_energy(sp_);
+    contacts_->add_elastic_energy(sp_, sums.elastic);
     if (bonds_) {
       d.bond_elastic = bonds_->elastic_energy(sp_);
-      d.elastic += d.bond_elastic;
+      sums.elastic += d.bond_elastic;
       d.bond_released = bonds_->released_energy();
       d.bonds = bonds_->bonds().size();
       d.bonds_broken = bonds_->broken_count();
@@ -328,6 +317,7 @@ Diagnostics Simulation::diagnostics() {
     d.wall_contacts = cstats_.wall_contacts;
     d.max_overlap_frac = cstats_.max_overlap_frac;
   }
+  sums.store(d);
   return d;
 }
 

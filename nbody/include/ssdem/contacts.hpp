@@ -53,6 +53,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "common/exact_sum.hpp"
 #include "ssdem/contact_law.hpp"
 #include "ssdem/spheres.hpp"
 
@@ -132,8 +133,9 @@ class ContactSystem {
   /// Changes whenever the pair list (its pairs or their order) changes: per-pair data cached by a
   /// caller (Simulation's pair levels) are stale when this differs from the value they were made at.
   std::uint64_t list_version() const { return version_; }
-  /// Elastic energy stored in all current contacts [J] (serial, deterministic).
-  double elastic_energy(const Spheres& sp) const;
+  /// Add the elastic energy stored in the current contacts [J] to `e`: every contact's, or with
+  /// `owned` only those whose i member (of a pair; the sphere of a wall contact) has owned[i] != 0.
+  void add_elastic_energy(const Spheres& sp, common::ExactSum& e, const std::vector<std::uint8_t>* owned = nullptr) const;
   /// Active contacts as records keyed by ids (sorted by pair order).
   std::vector<HistoryRecord> export_history(const Spheres& sp) const;
   /// Load history (e.g. from a checkpoint); rebuilds the pair list immediately.

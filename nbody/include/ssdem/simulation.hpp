@@ -53,6 +53,7 @@
 
 #include "ssdem/bonds.hpp"
 #include "ssdem/contacts.hpp"
+#include "ssdem/diagnostics.hpp"
 #include "ssdem/gravity.hpp"
 #include "ssdem/level_rules.hpp"
 #include "ssdem/multirate.hpp"
@@ -107,26 +108,8 @@ struct SimState {
   std::vector<std::uint8_t> level;  ///< multi-rate level per sphere (empty: single rate / all 0)
   std::vector<double> tau_prev;     ///< multi-rate: length of each sphere's previous step [s]
   double energy0 = NAN;  ///< the run's Diagnostics::accounted() at its first row [J] (NaN: unknown)
-  /// Each sphere's self-gravity potential at these positions [J/kg] (empty: not computed; not
-  /// in checkpoints): an MPI driver's row passes the distributed evaluation's to diagnostics().
-  std::vector<double> pot;
 };
 
-struct Diagnostics {
-  double kinetic = 0, rotational = 0, potential_self = 0, potential_uniform = 0, elastic = 0;
-  double total() const { return kinetic + rotational + potential_self + potential_uniform + elastic; }
-  double bond_elastic = 0;   ///< part of `elastic` stored in intact bonds [J]
-  double bond_released = 0;  ///< stored energy of the bonds broken so far [J] (left the total)
-  double dissipated = 0;     ///< energy dissipated by the contacts so far (sum of Spheres::dissipated) [J]
-  /// What an exact integration keeps constant: the conservative total plus what has left it
-  /// (contact dissipation, broken bonds' stored energy). accounted() - E_0 is the energy error.
-  double accounted() const { return total() + dissipated + bond_released; }
-  std::size_t bonds = 0, bonds_broken = 0;
-  Vec3 momentum = Vec3::Zero();
-  Vec3 angular_momentum = Vec3::Zero();  ///< orbital + spin, about the origin
-  std::size_t contacts = 0, wall_contacts = 0;
-  double max_overlap_frac = 0;
-};
 
 /// What the adaptive gravity cadence did: blocks (= evaluations after the first), their lengths
 /// and the measured relative force change per block (c in the file comment).

@@ -123,22 +123,6 @@ void DomainSim::compute_gravity() {
   ++times_.gravity_evals;
 }
 
-std::vector<double> DomainSim::gather_potential() const {
-  if (!cfg_.self_gravity || pot_step_ != step_) return {};  // the same on every rank (global steps)
-  struct GP {
-    std::uint64_t g;
-    double p;
-  };
-  std::vector<GP> mine(own_.size());
-  for (std::size_t k = 0; k < own_.size(); ++k) mine[k] = GP{gidx_[own_[k]], gpot_[gidx_[own_[k]]]};
-  const double b0 = comm_.bytes_sent;
-  const std::vector<GP> all = comm_.gather(mine, 0);
-  stats_.bytes_other += comm_.bytes_sent - b0;
-  std::vector<double> pot(comm_.rank == 0 ? gsp_.size() : 0);
-  for (const GP& q : all) pot[q.g] = q.p;
-  return pot;
-}
-
 void DomainSim::compute_forces(bool initial) {
   const double h = cfg_.dt, hh = 0.5 * h;
   const std::size_t no = own_.size();

@@ -25,26 +25,6 @@
 
 namespace ssdem::mpi {
 namespace {
-// Contact counts and the largest overlap (relative to the smaller radius) of the active records.
-void count_contacts(const SimState& st, const std::vector<Plane>& walls, Diagnostics& d) {
-  std::unordered_map<std::uint64_t, std::size_t> at;
-  for (std::size_t i = 0; i < st.sp.size(); ++i) at[st.sp.id[i]] = i;
-  for (const HistoryRecord& r : st.history) {
-    const std::size_t a = at.at(r.id_a);
-    double frac;
-    if (r.id_b >= kWallIdBase) {
-      const Plane& p = walls.at(r.id_b - kWallIdBase);
-      frac = (st.sp.s[a] - (st.sp.x[a] - p.point).dot(p.normal)) / st.sp.s[a];
-      ++d.wall_contacts;
-    } else {
-      const std::size_t b = at.at(r.id_b);
-      frac = (st.sp.s[a] + st.sp.s[b] - (st.sp.x[a] - st.sp.x[b]).norm()) / std::min(st.sp.s[a], st.sp.s[b]);
-      ++d.contacts;
-    }
-    d.max_overlap_frac = std::max(d.max_overlap_frac, frac);
-  }
-}
-
 // Rank 0 only runs `f`; every rank learns whether it threw, and the others then stop with exit 4.
 template <class F>
 void on_root(Comm& comm, F&& f) {
@@ -145,29 +125,30 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   });
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   double E0 = energy0, last_rel = 0.0;
-  // one gathered state per output step: series row and/or snapshot
+  // a series row from the ranks' exact sums (no rank gathers the state for it); a snapshot
+  // gathered to rank 0
   auto output = [&](bool row, bool snap) {
     if (!row && !snap) return;
-    SimState st = sim->gather_state();
-    if (row) st.pot = sim->gather_potential();  // the block's own evaluation: no serial one on rank 0
+    const std::int64_t step = sim->step_count();
+    const double time = sim->time();
+    const Diagnostics d = row ? sim->diagnostics() : Diagnostics{};
     const LevelStats ls = row ? sim->gather_level_stats() : LevelStats{};
+    const SimState st = snap ? sim->gather_state() : SimState{};
     on_root(comm, [&] {
       if (row && levels) {
         common::SeriesRow lr = levels->row();
-        detail::levels_row(lr, st.step, st.time, ls);
+        detail::levels_row(lr, step, time, ls);
         levels->write(lr);
       }
       if (row) {
-        Diagnostics d = Simulation(st, cfg).diagnostics();
-        count_contacts(st, cfg.walls, d);
         const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
-        common::require_finite(e, 6, series_path, "energies at step " + std::to_string(st.step));
+        common::require_finite(e, 6, series_path, "energies at step " + std::to_string(step));
         if (std::isnan(E0)) E0 = d.accounted();
         common::SeriesRow r = series->row();
-        detail::series_row(r, st.step, st.time, d, E0, progress.elapsed(), false);
+        detail::series_row(r, step, time, d, E0, progress.elapsed(), false);
         series->write(r);
         last_rel = detail::relative_energy_error(d, E0);
-        progress.update(st.step, st.time, cfg.dt, last_rel);
+        progress.update(step, time, cfg.dt, last_rel);
       }
       if (snap) write_snapshot(detail::snap_name(dir, st.step), st.sp, st.time, st.step, prov);
     });

@@ -96,9 +96,11 @@ class DomainSim {
   /// As Simulation::want_potential: the next gravity evaluations also give each own sphere's
   /// potential (the same bits as one rank's), for the driver's next series row.
   void want_potential(bool on) { want_pot_ = on; }
-  /// Collective: every sphere's potential at the current positions on rank 0 (global order), if
-  /// the last evaluation computed it at this step; else empty (on every rank alike).
-  std::vector<double> gather_potential() const;
+  /// Collective: the series row's quantities, on every rank, the same bits as one rank's
+  /// Simulation::diagnostics (exact sums over the ranks; domain_diagnostics.cpp). Evaluates the
+  /// potential (one gravity evaluation, the held field untouched) unless the block's own
+  /// evaluation gave it at this step (want_potential).
+  Diagnostics diagnostics();
   int gravity_block() const { return block_; }
   void set_end_step(std::int64_t s) { end_step_ = s; }
   std::int64_t step_count() const { return step_; }
