@@ -216,12 +216,15 @@ nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere
 # nbody-chaos-floor: multi-rate against single-rate stepping on one hand-off (CHAOS_RUN, default
 # the demo: `make -C pipelines demo` first), each also with one position perturbed by 1e-12: M_LR/M_PB
 # and beta at 1 h and at CHAOS_END, the multi-rate difference against the chaos floor.
+# CHAOS_CASES=core: only those four runs (no impulse variants), e.g. for the 1 km paper-method hand-off.
 CHAOS_RUN ?= $(RUNS)/demo
 CHAOS_END ?= 16200
+CHAOS_CASES ?= all
+CHAOS_OUT ?= $(RUNS)/nbody-chaos
 .PHONY: nbody-chaos-floor
 nbody-chaos-floor: ## multi-rate vs single rate within the chaos floor (1e-12 perturbation) on the demo's hand-off
 	cmake --build $(BUILD) --target ssdem-grav ssdem-analyse -j $(JOBS)
 	test -f $(CHAOS_RUN)/spheres.h5 || { echo "no $(CHAOS_RUN)/spheres.h5: run make -C pipelines demo first" >&2; exit 2; }
-	mkdir -p $(RUNS)/nbody-chaos
-	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/chaos_floor.py $(BIN_NBODY) $(BIN_ANALYSE) $(CHAOS_RUN) $(RUNS)/nbody-chaos \
-	  --end $(CHAOS_END) --threads $(JOBS) --target-radius $(R_T)
+	mkdir -p $(CHAOS_OUT)
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/chaos_floor.py $(BIN_NBODY) $(BIN_ANALYSE) $(CHAOS_RUN) $(CHAOS_OUT) \
+	  --end $(CHAOS_END) --threads $(JOBS) --target-radius $(R_T) --cases $(CHAOS_CASES)
