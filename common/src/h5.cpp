@@ -47,7 +47,13 @@ bool write_block(hid_t loc, const std::string& name, const T* data, std::size_t 
   hsize_t dims[2] = {block.total, cols};
   Handle space(H5Screate_simple(nd, dims, nullptr));
   if (!space.valid()) throw IoError("HDF5: cannot create dataspace for " + name);
-  Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT));
+  // storage allocated when the dataset is created, as parallel HDF5 always does: serial and
+  // collective files have the same layout (h5diff calls empty datasets that differ in this
+  // "not comparable")
+  Handle dcpl(H5Pcreate(H5P_DATASET_CREATE));
+  if (!dcpl.valid() || H5Pset_alloc_time(dcpl, H5D_ALLOC_TIME_EARLY) < 0)
+    throw IoError("HDF5: cannot create the properties of dataset " + name);
+  Handle ds(H5Dcreate2(loc, name.c_str(), file_type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT));
   if (!ds.valid()) throw IoError("HDF5: cannot create dataset " + name);
   bool ok = true;
   const bool whole = block.offset == 0 && rows == block.total && block.xfer == H5P_DEFAULT;

@@ -90,7 +90,7 @@ bool write_particle_content(long long file, const ParticleSnapshot& s, const Pro
 
 void write_particle_xdmf(const std::string& path, const ParticleSnapshot& s, std::size_t n) {
   using namespace detail;
-  XdmfGrid grid{"particles", s.time, n, basename(path), "/particles/position", {}};
+  XdmfGrid grid{"particles", s.time, n, basename(path), "/particles/position", {}, {}, 0};
   grid.attributes = {{"id", "/particles/id", 1, "UInt", 8},
                      {"velocity", "/particles/velocity", 3, "Float", 8},
                      {"mass", "/particles/mass", 1, "Float", 8},

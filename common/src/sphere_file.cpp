@@ -3,6 +3,7 @@
 /// SphereSet::zip_arrays.
 #include "common/sphere_file.hpp"
 
+#include <stdexcept>
 #include <type_traits>
 
 #include "common/atomic_file.hpp"
@@ -16,30 +17,49 @@ const Field* SphereSet::field(const std::string& name) const {
   return nullptr;
 }
 
-void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,
-                      const H5Hook& extra) {
+bool write_sphere_content(long long file, const SphereSet& s, const Provenance& prov, const h5::RowBlock& block) {
   using namespace detail;
+  const hid_t f = static_cast<hid_t>(file);
   const std::size_t n = s.count();
   s.for_each_array([&](const SphereArray& a, const auto& v) { check_size(a.name, v.size(), n, a.width); });
+  write_header(f, kSphereFormat, kSphereFormatVersion, s.time, s.step);
+  bool ok = true;
+  {
+    h5::Handle g = h5::create_group(f, "spheres");
+    s.for_each_array([&](const SphereArray& a, const auto& v) {
+      ok = h5::write_dataset_rows(g, a.name, v.data(), n, a.width, a.unit, block) && ok;
+    });
+    ok = write_fields(g, s.fields, n, block) && ok;
+  }
+  if (!s.bonds.empty()) {
+    if (block.offset != 0 || block.total != n)
+      throw std::logic_error("write_sphere_content: bonds are written only with the whole sphere set");
+    write_bonds(f, s.bonds, s.id);
+  }
+  h5::write_provenance(f, prov);
+  return ok;
+}
+
+void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,
+                      const H5Hook& extra) {
+  const std::size_t n = s.count();
   {
     AtomicPath out(path);
     {
       h5::Handle f = h5::create_file(out.temp_path());
-      write_header(f, kSphereFormat, kSphereFormatVersion, s.time, s.step);
-      {
-        h5::Handle g = h5::create_group(f, "spheres");
-        s.for_each_array(
-            [&](const SphereArray& a, const auto& v) { h5::write_dataset(g, a.name, v.data(), n, a.width, a.unit); });
-        write_fields(g, s.fields, n);
-      }
-      if (!s.bonds.empty()) write_bonds(f, s.bonds, s.id);
-      h5::write_provenance(f, prov);
+      if (!write_sphere_content(f, s, prov, h5::RowBlock{0, n, H5P_DEFAULT}))
+        throw IoError("HDF5: writing " + path + " failed (disk full or file not writable?)");
       if (extra) extra(f);
       h5::save_file(f, out.temp_path(), path);
     }
     out.commit();
   }
-  XdmfGrid grid{"spheres", s.time, n, basename(path), {}, {}};
+  write_sphere_xdmf(path, s, n);
+}
+
+void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n) {
+  using namespace detail;
+  XdmfGrid grid{"spheres", s.time, n, basename(path), {}, {}, {}, 0};
   SphereSet::zip_arrays([&](const SphereArray& a) {
     const std::string h5path = std::string("/spheres/") + a.name;
     if (a.geometry)
@@ -53,7 +73,7 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
     return;
   }
   // bonds as lines between the sphere positions (bond_file.hpp)
-  XdmfGrid lines{"bonds", s.time, n, grid.h5file, grid.position_path, {}};
+  XdmfGrid lines{"bonds", s.time, n, grid.h5file, grid.position_path, {}, {}, 0};
   lines.connectivity_path = "/bonds/sphere_index";
   lines.elements = s.bonds.size();
   BondTable::zip_columns([&](const BondColumn& c, const std::vector<double>&) {

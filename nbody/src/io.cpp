@@ -132,86 +132,96 @@ void write_snapshot(const std::string& path, const Spheres& sp, double time, std
   common::write_sphere_set(path, set, prov);
 }
 
+bool write_state_group(long long file, const SimState& st, const StateHeader& h, const common::h5::RowBlock& sph,
+                       const common::h5::RowBlock& hist) {
+  namespace h5 = common::h5;
+  const hid_t f = static_cast<hid_t>(file);
+  const std::size_t n = st.a.size();
+  h5::Handle g = h5::create_group(f, "ssdem_state");
+  h5::write_attr(g, "step", static_cast<std::int64_t>(st.step));
+  h5::write_attr(g, "time", st.time);
+  h5::write_attr(g, "gravity_step", static_cast<std::int64_t>(st.gravity_step));
+  h5::write_attr(g, "dt", h.dt);
+  h5::write_attr(g, "gravity_every", static_cast<std::int64_t>(h.gravity_every));
+  h5::write_attr(g, "kn", h.kn);
+  // the run's initial accounted energy (Diagnostics::accounted), so that a restarted run
+  // reports its energy error against the same E_0
+  if (std::isfinite(st.energy0)) h5::write_attr(g, "energy0_J", st.energy0);
+  if (!h.identity.empty()) {
+    h5::write_attr(g, "run_identity", h.identity);
+    h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(h.identity).digest());
+  }
+  bool ok = true;
+  auto vec3 = [&](hid_t loc, const char* name, const std::vector<Vec3>& v, const char* unit, std::size_t rows,
+                  const h5::RowBlock& b) {
+    const std::vector<double> x = flat(v);
+    ok = h5::write_dataset_rows(loc, name, x.data(), rows, 3, unit, b) && ok;
+  };
+  vec3(g, "a", st.a, "m/s^2", n, sph);
+  vec3(g, "alpha", st.alpha, "rad/s^2", n, sph);
+  if (h.has_ag) vec3(g, "ag", st.ag, "m/s^2", n, sph);
+  if (h.has_prev) {
+    vec3(g, "a_prev", st.a_prev, "m/s^2", n, sph);
+    vec3(g, "alpha_prev", st.alpha_prev, "rad/s^2", n, sph);
+  }
+  if (h.has_level) {  // multi-rate levels and previous steps (multirate.hpp)
+    std::vector<std::int32_t> lv(st.level.begin(), st.level.end());
+    ok = h5::write_dataset_rows(g, "level", lv.data(), n, 1, "1", sph) && ok;
+    ok = h5::write_dataset_rows(g, "tau_prev", st.tau_prev.data(), n, 1, "s", sph) && ok;
+  }
+  h5::Handle hg = h5::create_group(g, "history");
+  const std::size_t P = st.history.size();
+  std::vector<std::uint64_t> ia(P), ib(P);
+  for (std::size_t p = 0; p < P; ++p) {
+    ia[p] = st.history[p].id_a;
+    ib[p] = st.history[p].id_b;
+  }
+  ok = h5::write_dataset_rows(hg, "id_a", ia.data(), P, 1, "1", hist) && ok;
+  ok = h5::write_dataset_rows(hg, "id_b", ib.data(), P, 1, "1", hist) && ok;
+  // one dataset per history field of the contact table (contact/table.hpp)
+  std::vector<double> buf;
+  for (int k = 0; k < kHistVec; ++k) {
+    buf.assign(3 * P, 0.0);
+    for (std::size_t p = 0; p < P; ++p)
+      for (int c = 0; c < 3; ++c) buf[3 * p + c] = st.history[p].v[k][c];
+    ok = h5::write_dataset_rows(hg, kHistVecFields[k].name, buf.data(), P, 3, kHistVecFields[k].unit, hist) && ok;
+  }
+  for (int k = 0; k < kHistScal; ++k) {
+    buf.assign(P, 0.0);
+    for (std::size_t p = 0; p < P; ++p) buf[p] = st.history[p].q[k];
+    ok = h5::write_dataset_rows(hg, kHistScalFields[k].name, buf.data(), P, 1, kHistScalFields[k].unit, hist) && ok;
+  }
+  if (!st.bonds.empty()) {  // bonds with their state, by sphere ids (bonds.hpp; one process only)
+    const BondSet& b = st.bonds;
+    const std::size_t B = b.size();
+    h5::Handle bg = h5::create_group(g, "bonds");
+    h5::write_attr(bg, "released_energy", b.released);
+    h5::write_dataset(bg, "id_a", b.id_a.data(), B, 1, "1");
+    h5::write_dataset(bg, "id_b", b.id_b.data(), B, 1, "1");
+    h5::write_dataset(bg, "kn", b.kn.data(), B, 1, "N/m^3");
+    h5::write_dataset(bg, "ks", b.ks.data(), B, 1, "N/m^3");
+    h5::write_dataset(bg, "sigma_c", b.sigma_c.data(), B, 1, "Pa");
+    h5::write_dataset(bg, "tau_c", b.tau_c.data(), B, 1, "Pa");
+    h5::write_dataset(bg, "radius", b.radius.data(), B, 1, "m");
+    h5::write_dataset(bg, "length0", b.length0.data(), B, 1, "m");
+    std::vector<double> br(b.broken.begin(), b.broken.end());
+    h5::write_dataset(bg, "broken", br.data(), B, 1, "1");
+    auto fs = flat(b.Fs), mb = flat(b.Mb), no = flat(b.n_old);
+    h5::write_dataset(bg, "Fs", fs.data(), B, 3, "N");
+    h5::write_dataset(bg, "Mb", mb.data(), B, 3, "N m");
+    h5::write_dataset(bg, "n_old", no.data(), B, 3, "1");
+    h5::write_dataset(bg, "Mt", b.Mt.data(), B, 1, "N m");
+  }
+  return ok;
+}
+
 void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
                       const common::Provenance& prov, double kn, const std::string& identity) {
-  namespace h5 = common::h5;
-  const std::size_t n = st.sp.size();
+  const StateHeader h{dt, gravity_every, kn, identity, !st.ag.empty(), !st.a_prev.empty(), !st.level.empty()};
   auto hook = [&](long long fid) {
-    const hid_t f = static_cast<hid_t>(fid);
-    h5::Handle g = h5::create_group(f, "ssdem_state");
-    h5::write_attr(g, "step", static_cast<std::int64_t>(st.step));
-    h5::write_attr(g, "time", st.time);
-    h5::write_attr(g, "gravity_step", static_cast<std::int64_t>(st.gravity_step));
-    h5::write_attr(g, "dt", dt);
-    h5::write_attr(g, "gravity_every", static_cast<std::int64_t>(gravity_every));
-    h5::write_attr(g, "kn", kn);
-    // the run's initial accounted energy (Diagnostics::accounted), so that a restarted run
-    // reports its energy error against the same E_0
-    if (std::isfinite(st.energy0)) h5::write_attr(g, "energy0_J", st.energy0);
-    if (!identity.empty()) {
-      h5::write_attr(g, "run_identity", identity);
-      h5::write_attr(g, "run_identity_digest", common::RunIdentity::parse(identity).digest());
-    }
-    auto a = flat(st.a), al = flat(st.alpha);
-    h5::write_dataset(g, "a", a.data(), n, 3, "m/s^2");
-    h5::write_dataset(g, "alpha", al.data(), n, 3, "rad/s^2");
-    if (!st.ag.empty()) {
-      auto ag = flat(st.ag);
-      h5::write_dataset(g, "ag", ag.data(), n, 3, "m/s^2");
-    }
-    if (!st.a_prev.empty()) {
-      auto ap = flat(st.a_prev), alp = flat(st.alpha_prev);
-      h5::write_dataset(g, "a_prev", ap.data(), n, 3, "m/s^2");
-      h5::write_dataset(g, "alpha_prev", alp.data(), n, 3, "rad/s^2");
-    }
-    if (!st.level.empty()) {  // multi-rate levels and previous steps (multirate.hpp)
-      std::vector<std::int32_t> lv(st.level.begin(), st.level.end());
-      h5::write_dataset(g, "level", lv.data(), n, 1, "1");
-      h5::write_dataset(g, "tau_prev", st.tau_prev.data(), n, 1, "s");
-    }
-    h5::Handle hg = h5::create_group(g, "history");
-    const std::size_t P = st.history.size();
-    std::vector<std::uint64_t> ia(P), ib(P);
-    for (std::size_t p = 0; p < P; ++p) {
-      ia[p] = st.history[p].id_a;
-      ib[p] = st.history[p].id_b;
-    }
-    h5::write_dataset(hg, "id_a", ia.data(), P, 1, "1");
-    h5::write_dataset(hg, "id_b", ib.data(), P, 1, "1");
-    // one dataset per history field of the contact table (contact/table.hpp)
-    std::vector<double> buf;
-    for (int k = 0; k < kHistVec; ++k) {
-      buf.assign(3 * P, 0.0);
-      for (std::size_t p = 0; p < P; ++p)
-        for (int c = 0; c < 3; ++c) buf[3 * p + c] = st.history[p].v[k][c];
-      h5::write_dataset(hg, kHistVecFields[k].name, buf.data(), P, 3, kHistVecFields[k].unit);
-    }
-    for (int k = 0; k < kHistScal; ++k) {
-      buf.assign(P, 0.0);
-      for (std::size_t p = 0; p < P; ++p) buf[p] = st.history[p].q[k];
-      h5::write_dataset(hg, kHistScalFields[k].name, buf.data(), P, 1, kHistScalFields[k].unit);
-    }
-    if (!st.bonds.empty()) {  // bonds with their state, by sphere ids (bonds.hpp)
-      const BondSet& b = st.bonds;
-      const std::size_t B = b.size();
-      h5::Handle bg = h5::create_group(g, "bonds");
-      h5::write_attr(bg, "released_energy", b.released);
-      h5::write_dataset(bg, "id_a", b.id_a.data(), B, 1, "1");
-      h5::write_dataset(bg, "id_b", b.id_b.data(), B, 1, "1");
-      h5::write_dataset(bg, "kn", b.kn.data(), B, 1, "N/m^3");
-      h5::write_dataset(bg, "ks", b.ks.data(), B, 1, "N/m^3");
-      h5::write_dataset(bg, "sigma_c", b.sigma_c.data(), B, 1, "Pa");
-      h5::write_dataset(bg, "tau_c", b.tau_c.data(), B, 1, "Pa");
-      h5::write_dataset(bg, "radius", b.radius.data(), B, 1, "m");
-      h5::write_dataset(bg, "length0", b.length0.data(), B, 1, "m");
-      std::vector<double> br(b.broken.begin(), b.broken.end());
-      h5::write_dataset(bg, "broken", br.data(), B, 1, "1");
-      auto fs = flat(b.Fs), mb = flat(b.Mb), no = flat(b.n_old);
-      h5::write_dataset(bg, "Fs", fs.data(), B, 3, "N");
-      h5::write_dataset(bg, "Mb", mb.data(), B, 3, "N m");
-      h5::write_dataset(bg, "n_old", no.data(), B, 3, "1");
-      h5::write_dataset(bg, "Mt", b.Mt.data(), B, 1, "N m");
-    }
+    if (!write_state_group(fid, st, h, common::h5::RowBlock{0, st.a.size(), H5P_DEFAULT},
+                           common::h5::RowBlock{0, st.history.size(), H5P_DEFAULT}))
+      throw common::IoError("HDF5: writing " + path + " failed (disk full or file not writable?)");
   };
   const common::SphereSet set = to_sphere_set(st.sp, st.time, st.step);
   common::check_output_spheres(set, path);

@@ -408,9 +408,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   } catch (common::NumericalError& e) {
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
     if (sim->last_good()) {
-      write_checkpoint(failed, *sim->last_good(), cfg.dt, sim->last_good()->gravity_block, prov, cfg.contact.kn,
-                       ident.text());
-      spdlog::error("{}; last good state (step {}) saved to {}", e.what(), sim->last_good()->step, failed);
+      SimState good = *sim->last_good();
+      good.energy0 = E0;  // a restart from it reports its energy error against the run's E_0
+      write_checkpoint(failed, good, cfg.dt, good.gravity_block, prov, cfg.contact.kn, ident.text());
+      spdlog::error("{}; last good state (step {}) saved to {}", e.what(), good.step, failed);
     } else {
       write_snapshot(failed, sim->spheres(), sim->time(), sim->step_count(), prov);
       spdlog::error("{}; failing state saved to {}", e.what(), failed);

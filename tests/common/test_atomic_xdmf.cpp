@@ -140,8 +140,8 @@ TEST(Xdmf, SphereSidecarMatchesHdf5) {
 }
 
 TEST(Xdmf, TemporalCollectionAndEscaping) {
-  XdmfGrid a{"a<b", 0.5, 2, "x&y.h5", "/p/position", {}};
-  XdmfGrid b{"c", 1.5, 2, "z.h5", "/p/position", {}};
+  XdmfGrid a{"a<b", 0.5, 2, "x&y.h5", "/p/position", {}, {}, 0};
+  XdmfGrid b{"c", 1.5, 2, "z.h5", "/p/position", {}, {}, 0};
   const std::string t = xdmf_text({a, b});
   EXPECT_TRUE(balanced_xml(t));
   EXPECT_NE(t.find("CollectionType=\"Temporal\""), std::string::npos);

@@ -88,6 +88,15 @@ struct SphereSet {
 
 void write_sphere_set(const std::string& path, const SphereSet& s, const Provenance& prov,
                       const H5Hook& extra = {});
+/// The content of a sphere file written into the open HDF5 file `file`: root attributes, this
+/// process's rows `block` of every /spheres dataset, /bonds (only with the whole set in one
+/// block), /provenance. write_sphere_set writes the whole set; the MPI writer
+/// (common/mpi/sphere_file_mpi.hpp) gives each rank its block of the rows (every rank calls it,
+/// with the same fields). False if a data write failed; throws IoError if a group or dataset
+/// cannot be created.
+bool write_sphere_content(long long file, const SphereSet& s, const Provenance& prov, const h5::RowBlock& block);
+/// The XDMF sidecar of the sphere file `path` of `n` spheres (the fields and bonds of `s`).
+void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n);
 /// Validates like read_particle_snapshot, plus positive radius and finite spin, and /bonds if
 /// present (read_bonds: ids, ranges; InputError naming file, dataset and range).
 SphereSet read_sphere_set(const std::string& path, const H5Hook& extra = {});

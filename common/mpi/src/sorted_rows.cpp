@@ -4,25 +4,38 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 namespace common::mpi {
 
-SortedRows::SortedRows(Comm& comm, const std::vector<RowKey>& keys) : comm_(comm) {
+std::vector<RowKey> dense_splitters(std::size_t n, int P) {
+  std::vector<RowKey> split;
+  for (int r = 1; r < P; ++r) split.push_back(RowKey{0, dense_first(n, P, r)});
+  return split;
+}
+
+SortedRows::SortedRows(Comm& comm, const std::vector<RowKey>& keys, const std::vector<RowKey>* given)
+    : comm_(comm) {
   const std::size_t n = keys.size();
   const int P = comm.size;
   send_order_.resize(n);
   std::iota(send_order_.begin(), send_order_.end(), std::size_t{0});
   std::sort(send_order_.begin(), send_order_.end(), [&](std::size_t a, std::size_t b) { return keys[a] < keys[b]; });
-  // regular sampling: P keys at this rank's quantiles, every rank's on every rank
-  std::vector<RowKey> mine;
-  for (int j = 0; j < P && n > 0; ++j) mine.push_back(keys[send_order_[(static_cast<std::size_t>(j) * n) / P]]);
-  std::vector<RowKey> samples = comm.gather(mine);
-  std::sort(samples.begin(), samples.end());
   std::vector<RowKey> split;  // rank r takes keys in [split[r-1], split[r])
-  for (int r = 1; r < P && !samples.empty(); ++r) split.push_back(samples[(static_cast<std::size_t>(r) * samples.size()) / P]);
+  if (given) {
+    if (given->size() != static_cast<std::size_t>(P - 1)) throw std::logic_error("SortedRows: P - 1 splitters expected");
+    split = *given;
+  } else {
+    // regular sampling: P keys at this rank's quantiles, every rank's on every rank
+    std::vector<RowKey> mine;
+    for (int j = 0; j < P && n > 0; ++j) mine.push_back(keys[send_order_[(static_cast<std::size_t>(j) * n) / P]]);
+    std::vector<RowKey> samples = comm.gather(mine);
+    std::sort(samples.begin(), samples.end());
+    for (int r = 1; r < P && !samples.empty(); ++r) split.push_back(samples[(static_cast<std::size_t>(r) * samples.size()) / P]);
+  }
   send_rows_.assign(P, 0);
   for (const std::size_t i : send_order_) {
-    const std::size_t dest = samples.empty() ? 0 : static_cast<std::size_t>(std::upper_bound(split.begin(), split.end(), keys[i]) - split.begin());
+    const auto dest = static_cast<std::size_t>(std::upper_bound(split.begin(), split.end(), keys[i]) - split.begin());
     ++send_rows_[dest];
   }
   // the keys themselves move first; the block's order is theirs sorted (each source's already are)

@@ -42,10 +42,26 @@ void write_snapshot(const std::string& path, const Spheres& sp, double time, std
 /// Checkpoint: snapshot + /ssdem_state.
 /// `kn` is the resolved normal stiffness (the k_n rule depends on the state, so a restart must
 /// reuse the value the run started with).
-void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
-                      const common::Provenance& prov, double kn = 0.0, const std::string& identity = {});
 /// `identity`: the run's identity (common::RunIdentity::text()), stored as the attributes
 /// /ssdem_state/run_identity and run_identity_digest ("" = not recorded).
+void write_checkpoint(const std::string& path, const SimState& st, double dt, int gravity_every,
+                      const common::Provenance& prov, double kn = 0.0, const std::string& identity = {});
+/// What the /ssdem_state group records besides the state's arrays (write_state_group).
+struct StateHeader {
+  double dt = 0;
+  int gravity_every = 1;
+  double kn = 0;
+  std::string identity;
+  bool has_ag = false, has_prev = false, has_level = false;  ///< ag; a_prev, alpha_prev; level, tau_prev
+};
+/// The /ssdem_state group of a checkpoint, written into the open HDF5 file `file`: this process's
+/// rows `sph` of the per-sphere arrays (st.a.size() rows of st.a, st.alpha, ...) and `hist` of the
+/// history records (st.history), the attributes from st and h (the same on every process).
+/// write_checkpoint writes the whole state; the MPI writer (mpi/io_mpi.hpp) each rank's blocks
+/// (bonds: only with the whole state). False if a data write failed; IoError if a group or
+/// dataset cannot be created.
+bool write_state_group(long long file, const SimState& st, const StateHeader& h, const common::h5::RowBlock& sph,
+                       const common::h5::RowBlock& hist);
 /// Read a checkpoint; `dt`, `gravity_every` and `kn` return the values it was written with,
 /// `identity` the recorded run identity text ("" for a checkpoint written without one).
 SimState read_checkpoint(const std::string& path, double* dt = nullptr, int* gravity_every = nullptr,

@@ -1,7 +1,7 @@
 /// @file domain_exchange.cpp
 /// Where the spheres of DomainSim live (domain_sim.hpp): the first distribution, exchanges
-/// (rebalance, migration, history routing by the owner rule), ghosts, the per-step halo update,
-/// and gathering the full state on rank 0 in the one-rank layout.
+/// (rebalance, migration, history routing by the owner rule), ghosts and the per-step halo update.
+/// This rank's part of the state and its gathering: domain_local.cpp.
 #include <omp.h>
 
 #include <algorithm>
@@ -9,23 +9,10 @@
 #include <numeric>
 
 #include "ssdem/mpi/domain_sim.hpp"
+#include "sphere_pack.hpp"
 
 namespace ssdem::mpi {
 namespace {
-// Sphere i of `sp`, every array of Spheres::zip_arrays, appended to / read from a byte buffer.
-void put_sphere(const Spheres& sp, std::size_t i, std::vector<char>& b) {
-  sp.for_each_array([&](const common::SphereArray&, const auto& arr) { put(b, arr[i]); });
-}
-void get_sphere(const std::vector<char>& b, std::size_t& off, Spheres& sp, std::size_t at) {
-  sp.for_each_array([&](const common::SphereArray&, auto& arr) {
-    using T = typename std::decay_t<decltype(arr)>::value_type;
-    arr[at] = get<T>(b, off);
-  });
-}
-void append_sphere(const std::vector<char>& b, std::size_t& off, Spheres& sp) {
-  sp.resize(sp.size() + 1);
-  get_sphere(b, off, sp, sp.size() - 1);
-}
 bool is_wall(const HistoryRecord& r) { return r.id_b >= kWallIdBase; }
 }  // namespace
 
@@ -307,80 +294,6 @@ int DomainSim::owner_of_id(std::uint64_t id) const {
   int r = it != slot_of_id_.end() && mine_[it->second] ? comm_.rank : -1;
   MPI_Allreduce(MPI_IN_PLACE, &r, 1, MPI_INT, MPI_MAX, comm_.c);
   return r;
-}
-
-DomainSim::Packed DomainSim::pack_local() const {
-  Packed p;
-  for (std::uint32_t i : own_) pack_owned(i, p.spheres);
-  for (const HistoryRecord& r : owned_history()) put(p.history, r);
-  p.step = step_;
-  p.time = time_;
-  p.grav_step = grav_step_;
-  p.block = block_;
-  p.has_prev = has_prev_;
-  return p;
-}
-
-SimState DomainSim::gather_state() const { return assemble(pack_local()); }
-
-void DomainSim::set_keep_last_good(std::int64_t every) {
-  keep_every_ = every;
-  if (every > 0 && !last_good_) last_good_ = pack_local();
-}
-
-std::optional<SimState> DomainSim::gather_last_good() const {
-  if (!last_good_) return std::nullopt;
-  return assemble(*last_good_);
-}
-
-SimState DomainSim::assemble(const Packed& mine) const {
-  const double b0 = comm_.bytes_sent;
-  const std::vector<char> all = comm_.gather(mine.spheres, 0), hall = comm_.gather(mine.history, 0);
-  stats_.bytes_other += comm_.bytes_sent - b0;
-  SimState st;
-  if (comm_.rank != 0) return st;
-  const std::size_t n = gsp_.size();
-  st.sp.resize(n);
-  std::vector<Vec3> a(n), alpha(n), ag(n), ap(n), alp(n);
-  Owned mr;  // multi-rate fields in arrival order
-  std::vector<std::uint64_t> gs;
-  for (std::size_t off = 0; off < all.size();) {
-    const auto g = get<std::uint64_t>(all, off);
-    get_sphere(all, off, st.sp, g);
-    for (auto* v : {&a, &alpha, &ag, &ap, &alp}) (*v)[g] = get<Vec3>(all, off);
-    unpack_multirate(all, off, mr);
-    gs.push_back(g);
-  }
-  if (cfg_.multirate) {
-    st.level.resize(n);
-    st.tau_prev.resize(n);
-    for (std::size_t k = 0; k < gs.size(); ++k) {
-      st.level[gs[k]] = mr.level[k];
-      st.tau_prev[gs[k]] = mr.tau_prev[k];
-    }
-  }
-  st.sp.carried = carried_;
-  st.a = std::move(a);
-  st.alpha = std::move(alpha);
-  if (cfg_.self_gravity) st.ag = std::move(ag);
-  if (mine.has_prev) {
-    st.a_prev = std::move(ap);
-    st.alpha_prev = std::move(alp);
-  }
-  st.step = mine.step;
-  st.time = mine.time;
-  st.gravity_step = mine.grav_step;
-  st.gravity_block = mine.block;
-  // history in the one-rank order: pairs by (index a, index b), then walls by (index, wall)
-  std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;
-  for (std::size_t g = 0; g < n; ++g) g_of_id[st.sp.id[g]] = g;
-  for (std::size_t off = 0; off < hall.size();) st.history.push_back(get<HistoryRecord>(hall, off));
-  auto key = [&](const HistoryRecord& r) {
-    return is_wall(r) ? std::tuple(1, g_of_id.at(r.id_a), r.id_b) : std::tuple(0, g_of_id.at(r.id_a), g_of_id.at(r.id_b));
-  };
-  std::sort(st.history.begin(), st.history.end(),
-            [&](const HistoryRecord& p, const HistoryRecord& q) { return key(p) < key(q); });
-  return st;
 }
 
 }  // namespace ssdem::mpi

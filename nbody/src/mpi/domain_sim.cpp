@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/sorted_rows.hpp"
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/gravity_cadence.hpp"
@@ -51,7 +52,14 @@ void DomainSim::setup(const Spheres& all) {
   gsp_.s = all.s;
   gsp_.v.assign(all.size(), Vec3::Zero());
   gsp_.w.assign(all.size(), Vec3::Zero());
-  if (comm_.rank == 0) carried_ = all.carried;
+  const std::size_t lo = common::mpi::dense_first(all.size(), comm_.size, comm_.rank),
+                    hi = common::mpi::dense_first(all.size(), comm_.size, comm_.rank + 1);
+  carried_.clear();
+  for (const common::Field& f : all.carried)  // this rank's block of each (carried_block)
+    carried_.push_back(common::Field{f.name, f.unit, f.ncomp,
+                                     std::vector<double>(f.values.begin() + static_cast<std::ptrdiff_t>(lo * f.ncomp),
+                                                         f.values.begin() + static_cast<std::ptrdiff_t>(hi * f.ncomp)),
+                                     f.description});
 }
 
 DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance)

@@ -20,6 +20,7 @@
 #include "common/stop_signal.hpp"
 #include "ssdem/io.hpp"
 #include "ssdem/mpi/domain_sim.hpp"
+#include "ssdem/mpi/io_mpi.hpp"
 #include "ssdem/run.hpp"
 #include "ssdem/scene_setup.hpp"
 
@@ -53,7 +54,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         out_dir, "ssdem-grav", detail::is_output,
         restart.empty() ? std::string() : common::RunDirectory::staging_of(out_dir, restart));
   });
-  const std::string dir = rd ? rd->staging() : std::string();
+  const std::string dir = comm.bcast(rd ? rd->staging() : std::string());  // every rank writes there (collective files)
 
   std::unique_ptr<DomainSim> sim;
   std::string info;
@@ -125,15 +126,15 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   });
   common::Progress progress("ssdem-grav", sim->time(), t_end, sc.real("output.progress_interval"));
   double E0 = energy0, last_rel = 0.0;
-  // a series row from the ranks' exact sums (no rank gathers the state for it); a snapshot
-  // gathered to rank 0
+  // Nothing is gathered: a series row from the ranks' exact sums, snapshots and checkpoints
+  // written by every rank together (io_mpi.hpp)
   auto output = [&](bool row, bool snap) {
     if (!row && !snap) return;
     const std::int64_t step = sim->step_count();
     const double time = sim->time();
     const Diagnostics d = row ? sim->diagnostics() : Diagnostics{};
     const LevelStats ls = row ? sim->gather_level_stats() : LevelStats{};
-    const SimState st = snap ? sim->gather_state() : SimState{};
+    if (row && std::isnan(E0)) E0 = d.accounted();  // every rank: checkpoints record it
     on_root(comm, [&] {
       if (row && levels) {
         common::SeriesRow lr = levels->row();
@@ -143,23 +144,22 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       if (row) {
         const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
         common::require_finite(e, 6, series_path, "energies at step " + std::to_string(step));
-        if (std::isnan(E0)) E0 = d.accounted();
         common::SeriesRow r = series->row();
         detail::series_row(r, step, time, d, E0, progress.elapsed(), false);
         series->write(r);
         last_rel = detail::relative_energy_error(d, E0);
         progress.update(step, time, cfg.dt, last_rel);
       }
-      if (snap) write_snapshot(detail::snap_name(dir, st.step), st.sp, st.time, st.step, prov);
     });
+    if (snap) write_snapshot_mpi(comm, detail::snap_name(dir, step), *sim, sim->local_state(), prov);
+  };
+  auto header = [&](const DomainSim::Local& L) {
+    return StateHeader{cfg.dt, L.st.gravity_block, cfg.contact.kn, ident.text(), cfg.self_gravity, L.has_prev, cfg.multirate};
   };
   auto checkpoint = [&](const std::string& path) {
-    SimState st = sim->gather_state();
-    st.energy0 = E0;
-    on_root(comm, [&] {
-      write_checkpoint(path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
-      spdlog::info("checkpoint at step {} -> {}", st.step, path);
-    });
+    const DomainSim::Local L = sim->local_state();
+    write_checkpoint_mpi(comm, path, *sim, L, header(L), E0, prov);
+    spdlog::info("checkpoint at step {} -> {}", L.st.step, path);
   };
   double next_snap = snap_dt > 0 ? (std::floor(sim->time() / snap_dt + 1e-9) + 1) * snap_dt : INFINITY;
   std::size_t next_time = 0;
@@ -209,16 +209,15 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     // check_state is collective: every rank is here at the same step. As the serial driver: the
     // last verified state as a checkpoint (restartable), else the failing state as a snapshot.
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
-    const std::optional<SimState> good = sim->gather_last_good();
-    const SimState st = good ? SimState{} : sim->gather_state();
+    const std::optional<DomainSim::Local> good = sim->last_good_local();
+    if (good) {
+      write_checkpoint_mpi(comm, failed, *sim, *good, header(*good), E0, prov);
+      spdlog::error("{}; last good state (step {}) saved to {}", e.what(), good->st.step, failed);
+    } else {
+      write_snapshot_mpi(comm, failed, *sim, sim->local_state(), prov);
+      spdlog::error("{}; failing state saved to {}", e.what(), failed);
+    }
     on_root(comm, [&] {
-      if (good) {
-        write_checkpoint(failed, *good, cfg.dt, good->gravity_block, prov, cfg.contact.kn, ident.text());
-        spdlog::error("{}; last good state (step {}) saved to {}", e.what(), good->step, failed);
-      } else {
-        write_snapshot(failed, st.sp, st.time, st.step, prov);
-        spdlog::error("{}; failing state saved to {}", e.what(), failed);
-      }
       series->commit();
       if (levels) levels->commit();
     });

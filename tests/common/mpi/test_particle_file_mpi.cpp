@@ -21,45 +21,17 @@
 
 #include "common/particle_file_mpi.hpp"
 #include "common/status.hpp"
+#include "mpi_test_util.hpp"
 
 namespace {
 
 using common::ParticleSnapshot;
-using common::mpi::Comm;
+using mpi_test::contents;
+using mpi_test::prov;
+using mpi_test::SharedDir;
+using mpi_test::world;
 using common::mpi::RowKey;
 namespace fs = std::filesystem;
-
-Comm& world() {
-  static Comm c(MPI_COMM_WORLD);
-  return c;
-}
-
-/// A directory shared by the ranks (rank 0 makes it), removed at the end of the test.
-struct SharedDir {
-  std::string path;
-  SharedDir() {
-    std::string p;
-    if (world().rank == 0) {
-      char tmpl[] = "/tmp/particle_file_mpi.XXXXXX";
-      p = ::mkdtemp(tmpl);
-    }
-    path = world().bcast(p);
-  }
-  ~SharedDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (world().rank == 0) fs::remove_all(path);
-  }
-};
-
-common::Provenance prov() {
-  common::Provenance p;
-  p.tool = "test_common_mpi";
-  p.version = "1";
-  p.git_sha = "abc";
-  p.command_line = "mpirun test";
-  p.scene_toml = "[a]\nb = 1\n";
-  return p;
-}
 
 /// n particles in file order: material 0 then 1, ids ascending within each (and interleaved
 /// between them), every value distinct; fields damage (1) and stress (6, with a description).
@@ -163,11 +135,6 @@ TEST(ParticleFileMpi, CollectiveFileEqualsTheSerialWritersFile) {
 TEST(ParticleFileMpi, NoParticlesAtAll) {
   SharedDir d;
   check_against_serial(global_set(0), Spread::hashed, d.path);
-}
-
-std::string contents(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 TEST(ParticleFileMpi, AFullDiskThrowsOnEveryRankAndKeepsTheEarlierFile) {

@@ -28,6 +28,7 @@ done
 one=$(ls "$w"/np1/.staging-*/failed_state.h5)
 many=$(ls "$w"/np"$np"/.staging-*/failed_state.h5)
 h5diff --exclude-path /provenance "$one" "$many" >/dev/null || fail "failed_state.h5 on $np ranks differs from one rank's"
+h5dump -a /ssdem_state/energy0_J "$many" >/dev/null 2>&1 || fail "failed_state.h5 records no initial energy (energy0_J)"
 echo "$np ranks: exit 3 at step 120, last good state (step 100) saved, equal to one rank's"
 set +e
 "${run[@]}" -np "$np2" "$exe" "${common[@]}" --set "output.directory=\"$w/again\"" --restart "$many" >"$w/again.log" 2>&1

@@ -29,10 +29,23 @@ struct RowKey {
   }
 };
 
+/// Rows numbered densely 0..n-1 (RowKey{0, row}) in fixed blocks: rank r's block is rows
+/// [dense_first(n, P, r), dense_first(n, P, r + 1)), whatever the rows' distribution, so that
+/// data a rank keeps for its block (ssdem-grav's carried fields) line up with the moved rows.
+inline std::size_t dense_first(std::size_t n, int P, int r) {
+  return static_cast<std::size_t>((static_cast<unsigned __int128>(n) * static_cast<unsigned>(r)) / static_cast<unsigned>(P));
+}
+/// The splitters of those blocks (for SortedRows).
+std::vector<RowKey> dense_splitters(std::size_t n, int P);
+
 class SortedRows {
  public:
-  /// Collective over `comm`: plan the move of this rank's rows (keys[i] for local row i).
-  SortedRows(Comm& comm, const std::vector<RowKey>& keys);
+  /// Collective over `comm`: plan the move of this rank's rows (keys[i] for local row i). Rank r
+  /// receives the keys in [split[r-1], split[r]) (P - 1 ascending splitters, the same on every
+  /// rank); without `split` they come from the keys by regular sampling.
+  SortedRows(Comm& comm, const std::vector<RowKey>& keys) : SortedRows(comm, keys, nullptr) {}
+  SortedRows(Comm& comm, const std::vector<RowKey>& keys, const std::vector<RowKey>& split)
+      : SortedRows(comm, keys, &split) {}
   /// Rows this rank holds after the move, their first global row, and the global row count.
   std::size_t count() const { return recv_order_.size(); }
   std::size_t offset() const { return offset_; }
@@ -47,6 +60,7 @@ class SortedRows {
   }
 
  private:
+  SortedRows(Comm& comm, const std::vector<RowKey>& keys, const std::vector<RowKey>* split);
   /// Collective: this rank's rows sent to their destinations; received rows in arrival order
   /// (sources ascending, each source's rows in key order).
   template <class T>

@@ -126,6 +126,25 @@ class DomainSim {
   /// Collective: the last kept state on rank 0, as gather_state() returned it then; nullopt where
   /// none was kept (on every rank alike).
   std::optional<SimState> gather_last_good() const;
+  /// This rank's part of the state, as the collective writers take it (io_mpi.hpp): its own
+  /// spheres in any order with `row`, their indices (the one-rank file rows), their integrator
+  /// arrays, and the contact records it owns; step, time and gravity block as the one-rank state.
+  struct Local {
+    SimState st;
+    std::vector<std::uint64_t> row;
+    bool has_prev = false;  ///< the state has a_prev, alpha_prev (every rank alike, even one with no spheres)
+  };
+  Local local_state() const;
+  /// The part of the last kept state (set_keep_last_good); nullopt where none was kept (on every
+  /// rank alike).
+  std::optional<Local> last_good_local() const;
+  /// The file order of history records (the one-rank order): pairs by (index a, index b), then
+  /// wall contacts by (index, wall id), as (first, second) keys.
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> history_rows(const std::vector<HistoryRecord>& h) const;
+  /// The carried per-sphere fields (e.g. damage from mpm2spheres) of this rank's fixed block of
+  /// sphere indices [dense_first(N, P, r), dense_first(N, P, r + 1)) (common/sorted_rows.hpp), in
+  /// index order: the rows a collective writer gives this rank. No rank holds all of them.
+  const std::vector<common::Field>& carried_block() const { return carried_; }
   /// Collective: the multi-rate level statistics of all ranks (rank 0; sums; empty in single rate).
   LevelStats gather_level_stats() const;
   /// Bytes per sphere held by this rank (local set, contact system, replicated gravity arrays),
@@ -175,6 +194,9 @@ class DomainSim {
   };
   Packed pack_local() const;
   SimState assemble(const Packed& mine) const;  ///< collective: the full state on rank 0
+  /// pack_owned records (of one or more ranks, concatenated) and history records -> arrays in
+  /// arrival order, with the scalars of `scalars`.
+  Local unpack(const std::vector<char>& spheres, const std::vector<char>& history, const Packed& scalars) const;
   std::int64_t keep_every_ = 0;
   std::optional<Packed> last_good_;
   void unpack_multirate(const std::vector<char>& b, std::size_t& off, Owned& own) const;
@@ -202,7 +224,7 @@ class DomainSim {
   std::vector<double> gpot_;  ///< potential of the own spheres (global order) when want_pot_
   bool want_pot_ = false;
   std::int64_t pot_step_ = -1;
-  std::vector<common::Field> carried_;  // rank 0: carried per-sphere fields (global order)
+  std::vector<common::Field> carried_;  // carried per-sphere fields of this rank's index block (carried_block)
   std::unique_ptr<ContactSystem> contacts_;
   std::unique_ptr<TreeGravity> tree_;
   ContactStats cstats_;

@@ -1,0 +1,41 @@
+/// @file sphere_file_mpi.hpp
+/// A sphere file (common/sphere_file.hpp) written by every rank of a communicator together, MPI
+/// build only, as particle_file_mpi.hpp does for particle files. File row g holds the sphere of
+/// index g (0..N-1, the one-rank order); the rows move to fixed blocks (rank r: rows
+/// [dense_first(N, P, r), dense_first(N, P, r + 1)); sorted_rows.hpp) and every dataset is written
+/// with one hyperslab per rank. The file equals the one the serial writer makes of all the spheres
+/// in index order. No rank holds more than its block of rows plus one column in flight.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/sorted_rows.hpp"
+#include "common/sphere_file.hpp"
+
+namespace common::mpi {
+
+/// This rank's spheres moved to its block of the file, collective. `local`: its spheres (core
+/// arrays and fields, the same field list on every rank), `row[i]` the file row of local sphere i;
+/// `block_fields`: fields whose values this rank holds already for exactly its block (in row
+/// order), placed before local's fields in the file (ssdem-grav's carried fields).
+/// std::logic_error on every rank if the ranks' field lists differ (`path` names the file).
+struct SphereBlock {
+  SortedRows plan;  ///< the move (its offset() and total() are the block's)
+  SphereSet set;    ///< the block's rows
+  SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+              const std::vector<Field>& block_fields, const std::string& path);
+};
+
+/// Bytes to reserve for a sphere file of `total` rows with the fields of `s` (data plus an
+/// allowance for HDF5's metadata).
+std::uintmax_t sphere_file_bytes(const SphereSet& s, std::size_t total);
+
+/// Collective: write the sphere file `path` (see SphereBlock for the arguments). IoError on
+/// every rank if it cannot be written (an earlier file is left as it was); the ranks' sphere sets
+/// must hold no bonds (std::logic_error). Rank 0 writes the XDMF sidecar.
+void write_sphere_set_mpi(Comm& comm, const std::string& path, const SphereSet& local,
+                          const std::vector<std::uint64_t>& row, const std::vector<Field>& block_fields,
+                          const Provenance& prov);
+
+}  // namespace common::mpi

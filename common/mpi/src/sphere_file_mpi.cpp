@@ -1,0 +1,72 @@
+/// @file sphere_file_mpi.cpp
+/// Implementation of common/sphere_file_mpi.hpp (the header states the contract).
+#include "common/sphere_file_mpi.hpp"
+
+#include <stdexcept>
+
+#include "common/agreed.hpp"
+#include "common/finite.hpp"
+#include "common/h5_parallel.hpp"
+#include "common/status.hpp"
+
+namespace common::mpi {
+namespace {
+std::vector<RowKey> keys_of(const std::vector<std::uint64_t>& row) {
+  std::vector<RowKey> k(row.size());
+  for (std::size_t i = 0; i < row.size(); ++i) k[i] = RowKey{0, row[i]};
+  return k;
+}
+std::size_t global_rows(Comm& comm, std::size_t n) {
+  long long t = static_cast<long long>(n);
+  comm.sum(&t, 1);
+  return static_cast<std::size_t>(t);
+}
+std::string field_list(const std::vector<Field>& fields) {
+  std::string s;
+  for (const Field& f : fields) s += f.name + ":" + std::to_string(f.ncomp) + ":" + f.unit + ":" + f.description + ";";
+  return s;
+}
+}  // namespace
+
+SphereBlock::SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+                         const std::vector<Field>& block_fields, const std::string& path)
+    : plan(comm, keys_of(row), dense_splitters(global_rows(comm, row.size()), comm.size)) {
+  if (row.size() != local.count()) throw std::logic_error("SphereBlock: one row per sphere");
+  // names, widths, units and descriptions are HDF5 metadata: the same on every rank
+  const std::string fields = field_list(block_fields) + "|" + field_list(local.fields);
+  if (!comm.all(comm.bcast(fields) == fields))
+    throw std::logic_error("write_sphere_set_mpi: the ranks' field lists differ (" + path + ")");
+  for (const Field& f : block_fields)
+    if (f.values.size() != plan.count() * f.ncomp)
+      throw std::logic_error("write_sphere_set_mpi: block field '" + f.name + "' does not match the rank's block");
+  set.time = local.time;
+  set.step = local.step;
+  SphereSet::zip_arrays([&](const SphereArray& a, auto& to, const auto& from) { to = plan.move(from, a.width); },
+                        set, local);
+  set.fields = block_fields;
+  for (const Field& f : local.fields)
+    set.fields.push_back(Field{f.name, f.unit, f.ncomp, plan.move(f.values, f.ncomp), f.description});
+}
+
+std::uintmax_t sphere_file_bytes(const SphereSet& s, std::size_t total) {
+  std::uintmax_t row = 0;
+  SphereSet::zip_arrays([&](const SphereArray& a) { row += a.bytes(); });
+  for (const Field& f : s.fields) row += 8 * f.ncomp;
+  return row * total + (std::uintmax_t{1} << 20) + 16384 * (7 + s.fields.size());
+}
+
+void write_sphere_set_mpi(Comm& comm, const std::string& path, const SphereSet& local,
+                          const std::vector<std::uint64_t>& row, const std::vector<Field>& block_fields,
+                          const Provenance& prov) {
+  if (!comm.all(local.bonds.empty())) throw std::logic_error("write_sphere_set_mpi: bonds are not distributed");
+  const SphereBlock b(comm, local, row, block_fields, path);
+  agreed(comm, [&] { check_output_spheres(b.set, path); });  // a NaN on any rank: nothing written
+  ParallelFile file(comm, path, sphere_file_bytes(b.set, b.plan.total()));
+  const bool ok = write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
+  file.commit(ok);
+  agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike
+    if (comm.rank == 0) write_sphere_xdmf(path, b.set, b.plan.total());
+  });
+}
+
+}  // namespace common::mpi

@@ -1,0 +1,55 @@
+/// @file mpi_test_util.hpp
+/// Helpers of the collective-file tests (label mpi): the world communicator, a directory shared
+/// by the ranks, a provenance record, a file's bytes.
+#pragma once
+#include <mpi.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "common/mpi_comm.hpp"
+#include "common/provenance.hpp"
+
+namespace mpi_test {
+
+inline common::mpi::Comm& world() {
+  static common::mpi::Comm c(MPI_COMM_WORLD);
+  return c;
+}
+
+/// A directory shared by the ranks (rank 0 makes it), removed at the end of the test.
+struct SharedDir {
+  std::string path;
+  SharedDir() {
+    std::string p;
+    if (world().rank == 0) {
+      char tmpl[] = "/tmp/common_mpi.XXXXXX";
+      p = ::mkdtemp(tmpl);
+    }
+    path = world().bcast(p);
+  }
+  ~SharedDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (world().rank == 0) std::filesystem::remove_all(path);
+  }
+};
+
+inline common::Provenance prov() {
+  common::Provenance p;
+  p.tool = "test_common_mpi";
+  p.version = "1";
+  p.git_sha = "abc";
+  p.command_line = "mpirun test";
+  p.scene_toml = "[a]\nb = 1\n";
+  return p;
+}
+
+inline std::string contents(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+}  // namespace mpi_test
