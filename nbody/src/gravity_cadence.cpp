@@ -2,6 +2,8 @@
 /// Error-controlled gravity cadence (gravity_cadence.hpp, simulation.hpp).
 #include "ssdem/gravity_cadence.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 
@@ -21,6 +23,44 @@ int next_gravity_block(int k, double g2, double d2, double cmax, const SimConfig
   st.max_change = std::max(st.max_change, c);
   st.sum_change += c;
   return next;
+}
+
+namespace {
+constexpr std::size_t kOmpMin = 2048;  // below this many spheres the sums run serially
+}
+
+common::ExactSum cadence_g2(const std::vector<Vec3>& g, const std::vector<std::uint32_t>* idx) {
+  const std::size_t n = idx ? idx->size() : g.size();
+  common::ExactSum total;
+#pragma omp parallel if (n >= kOmpMin)
+  {
+    common::ExactSum part;  // per thread; merging is exact, so the order of the merges is free
+#pragma omp for schedule(static) nowait
+    for (std::size_t k = 0; k < n; ++k) part += g[idx ? (*idx)[k] : k].squaredNorm();
+#pragma omp critical(cadence_sum)
+    total.merge(part);
+  }
+  return total;
+}
+
+void cadence_change(const std::vector<Vec3>& g, const std::vector<Vec3>& g_old, double floor,
+                    const std::vector<std::uint32_t>* idx, common::ExactSum& d2, double& cmax) {
+  const std::size_t n = idx ? idx->size() : g.size();
+  double mx = 0.0;
+#pragma omp parallel if (n >= kOmpMin) reduction(max : mx)
+  {
+    common::ExactSum part;
+#pragma omp for schedule(static) nowait
+    for (std::size_t k = 0; k < n; ++k) {
+      const std::size_t i = idx ? (*idx)[k] : k;
+      const double d = (g[i] - g_old[i]).norm();
+      part += d * d;
+      mx = std::max(mx, d / std::max({g[i].norm(), floor, 1e-300}));
+    }
+#pragma omp critical(cadence_sum)
+    d2.merge(part);
+  }
+  cmax = std::max(cmax, mx);
 }
 
 }  // namespace ssdem

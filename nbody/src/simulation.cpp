@@ -230,18 +230,12 @@ void Simulation::close_gravity_block() {
     next = 1;
     if (cfg_.self_gravity) {
       const std::size_t n = sp_.size();
-      double g2 = 0;
-#pragma omp parallel for schedule(static) reduction(+ : g2) if (n >= kOmpMin)
-      for (std::size_t i = 0; i < n; ++i) g2 += ag_[i].squaredNorm();
+      const double g2 = cadence_g2(ag_, nullptr).value();  // exact: thread-count independent
       const double floor = 0.1 * std::sqrt(g2 / static_cast<double>(std::max<std::size_t>(n, 1)));
-      double cmax = 0, d2 = 0;
-#pragma omp parallel for schedule(static) reduction(max : cmax) reduction(+ : d2) if (n >= kOmpMin)
-      for (std::size_t i = 0; i < n; ++i) {
-        const double d = (ag_[i] - ag_old_[i]).norm();
-        d2 += d * d;
-        cmax = std::max(cmax, d / std::max({ag_[i].norm(), floor, 1e-300}));
-      }
-      next = next_gravity_block(k, g2, d2, cmax, cfg_, cadence_);
+      common::ExactSum d2;
+      double cmax = 0;
+      cadence_change(ag_, ag_old_, floor, nullptr, d2, cmax);
+      next = next_gravity_block(k, g2, d2.value(), cmax, cfg_, cadence_);
     }
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));

@@ -16,4 +16,12 @@ inline constexpr double kCadenceMaxChange = 0.1;
 /// Next block length after a block of k steps; records the block in `stats`.
 int next_gravity_block(int k, double g2, double d2, double cmax, const SimConfig& cfg, CadenceStats& stats);
 
+/// The measures' sums over the spheres `idx` (every sphere if null), exact
+/// (common/exact_sum.hpp) so that the block length does not depend on the thread count, nor on
+/// the MPI rank count once the ranks' sums are added: sum_i |g_i|^2, and
+/// sum_i |g_i - g_i'|^2 with max_i |g_i - g_i'| / max(|g_i|, floor).
+common::ExactSum cadence_g2(const std::vector<Vec3>& g, const std::vector<std::uint32_t>* idx);
+void cadence_change(const std::vector<Vec3>& g, const std::vector<Vec3>& g_old, double floor,
+                    const std::vector<std::uint32_t>* idx, common::ExactSum& d2, double& cmax);
+
 }  // namespace ssdem

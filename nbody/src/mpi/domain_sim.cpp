@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "common/exact_sum_mpi.hpp"
 #include "common/sorted_rows.hpp"
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
@@ -229,25 +230,19 @@ void DomainSim::close_gravity_block() {
     next = 1;
     if (cfg_.self_gravity) {
       const std::size_t n = gsp_.size();
-      // global sums: per-rank partial sums in global-index order, added in rank order
-      double g2l = 0;
-      for (std::uint32_t i : own_) g2l += ag_[i].squaredNorm();
-      double g2 = 0;
-      for (double v : comm_.gather(std::vector<double>{g2l})) g2 += v;
+      // global sums, exact over the ranks: the bits of one rank's (gravity_cadence.hpp)
+      common::ExactSum g2s = cadence_g2(ag_, &own_);
+      common::ExactSum* g2p = &g2s;
+      common::mpi::allreduce(comm_, &g2p, 1);
+      const double g2 = g2s.value();
       const double floor = 0.1 * std::sqrt(g2 / static_cast<double>(std::max<std::size_t>(n, 1)));
-      double d2l = 0, cml = 0;
-      for (std::uint32_t i : own_) {
-        const double d = (ag_[i] - ag_old_[i]).norm();
-        d2l += d * d;
-        cml = std::max(cml, d / std::max({ag_[i].norm(), floor, 1e-300}));
-      }
-      double d2 = 0, cmax = 0;
-      const std::vector<double> part = comm_.gather(std::vector<double>{d2l, cml});
-      for (std::size_t r = 0; r < part.size(); r += 2) {
-        d2 += part[r];
-        cmax = std::max(cmax, part[r + 1]);
-      }
-      next = next_gravity_block(k, g2, d2, cmax, cfg_, cadence_);
+      common::ExactSum d2s;
+      double cmax = 0;
+      cadence_change(ag_, ag_old_, floor, &own_, d2s, cmax);
+      common::ExactSum* d2p = &d2s;
+      common::mpi::allreduce(comm_, &d2p, 1);
+      cmax = comm_.max(cmax);
+      next = next_gravity_block(k, g2, d2s.value(), cmax, cfg_, cadence_);
     }
   }
   if (end_step_ > step_) next = static_cast<int>(std::min<std::int64_t>(next, end_step_ - step_));
