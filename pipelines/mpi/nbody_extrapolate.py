@@ -22,15 +22,13 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
                                           base step measured, 15 985 B for 486 ghosts; 145 B before
                                           the halos of the ghosts that changed) and three collectives
                                           (movers' allgather, levels-changed and failure allreduces)
-  rows      r N / R                       a series row every R base steps gathers every sphere to
-                                          rank 0, which sums the row's diagnostics for all N (the
-                                          potential comes from the distributed evaluation; the
-                                          contact energies and counts from a local Simulation): r
-                                          per sphere measured (2 x 1 ranks, 1 km debris: 5.8 ms per
-                                          row for 8 225 spheres; 18.3 ms when rank 0 evaluated the
-                                          potential itself); R = output.series_every (the
-                                          pipeline's 200; a row falls on the first gravity-block
-                                          boundary from there: measured 44 rows in 8 491 steps)
+  rows      r N / R                       the O(N) work a series row every R base steps leaves on
+                                          rank 0; r = 0 since 2026-12-04 (exact sums over the
+                                          ranks, no gather: 0.6 ms per row on 2 ranks for 8 217
+                                          spheres, ~1.7 base steps, and O(N/P)). Binaries before
+                                          gathered every sphere to rank 0: r = 0.7 us per sphere
+                                          (5.8 ms per row; 18.3 ms when rank 0 also evaluated the
+                                          potential); R = output.series_every (the pipeline's 200)
 The paper's run: N = 8 225 x 5^3 (200 m cells instead of 1 km), S and E 5x the measured 1 km run's
 (base step proportional to the cell: the kinetic k_n rule), 4.5 h.
 Usage: nbody_extrapolate.py [--c NS] [--b NS] [--w NS] ... (see --help); prints a Markdown table.
@@ -48,7 +46,8 @@ ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="g
 ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
 ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
 ap.add_argument("--mh", type=float, default=33.0, help="halo bytes per ghost and base step (measured)")
-ap.add_argument("--row", type=float, default=0.7, help="us per sphere per series row on rank 0 (measured)")
+ap.add_argument("--row", type=float, default=0.0,
+                help="us per sphere per series row on rank 0 (0 since the exact-sum rows; 0.7 before)")
 ap.add_argument("--series-every", type=float, default=200.0, help="base steps per series row (output.series_every)")
 ap.add_argument("--N", type=float, default=8225 * 125, help="spheres (the paper's 200 m hand-off)")
 ap.add_argument("--steps", type=float, default=5 * 3242057, help="base steps of the 4.5 h run")
