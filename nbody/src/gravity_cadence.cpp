@@ -2,8 +2,6 @@
 /// Error-controlled gravity cadence (gravity_cadence.hpp, simulation.hpp).
 #include "ssdem/gravity_cadence.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
 

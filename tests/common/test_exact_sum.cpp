@@ -59,6 +59,32 @@ TEST(ExactSum, CorrectlyRounded) {
   EXPECT_EQ(sum_of({1.7e308, 1.7e308}), std::numeric_limits<double>::infinity());
 }
 
+TEST(ExactSum, CorrectlyRoundedAgainstAnIndependentIntegerReference) {
+  // 2 to 16 terms m 2^e, |m| < 2^53, e in [-60, 10], mixed signs: their exact sum times 2^60 is an
+  // integer below 2^127 (__int128), whose conversion to double is correctly rounded by the compiler
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> count(2, 16), ex(-60, 10);
+  int checked = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    ExactSum s;
+    __int128 ref = 0;
+    const int n = count(rng);
+    for (int i = 0; i < n; ++i) {
+      const std::int64_t m = static_cast<std::int64_t>(rng() >> 11) * ((rng() & 1) ? 1 : -1);
+      const int e = ex(rng);
+      s += std::ldexp(static_cast<double>(m), e);
+      ref += static_cast<__int128>(m) << (e + 60);
+    }
+    const double want = std::ldexp(static_cast<double>(ref), -60);
+    EXPECT_EQ(s.value(), want) << "trial " << trial;
+    checked += s.value() == want;
+  }
+  EXPECT_EQ(checked, 20000);
+  // a negative total whose tie is broken by the sticky bit, far below the leading digits
+  EXPECT_EQ(sum_of({-1.0, std::ldexp(1.0, -54), std::ldexp(1.0, -200)}), -std::nextafter(1.0, 0.0));
+  EXPECT_EQ(sum_of({-1.0, std::ldexp(1.0, -54), -std::ldexp(1.0, -200)}), -1.0);
+}
+
 TEST(ExactSum, SameBitsInAnyOrderAndAnySplit) {
   std::mt19937_64 rng(11);
   std::lognormal_distribution<double> mag(0.0, 12.0);

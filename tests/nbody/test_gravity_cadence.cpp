@@ -3,6 +3,7 @@
 /// slow phases take longer blocks, the energy error stays within stated bounds (two-body orbit,
 /// self-gravitating pile with contacts) and a restart from a block boundary is bit-identical.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -11,6 +12,7 @@
 #include "kepler_pair.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
+#include "ssdem/gravity_cadence.hpp"
 #include "ssdem/simulation.hpp"
 
 using namespace ssdem;
@@ -74,6 +76,37 @@ SimConfig pile_config(const Spheres& sp, bool adaptive) {
   return c;
 }
 }  // namespace
+
+TEST(GravityCadence, SumsAreExactAndIndependentOfTheThreadCount) {
+  // 20 000 accelerations over 12 decades: the sums of |g|^2 and |g - g'|^2 with 1 and 4 threads
+  // and over a subset against one exact accumulator (a reduction(+) would differ with threads)
+  std::vector<Vec3> g(20000), g_old(20000);
+  std::vector<std::uint32_t> odd;
+  common::ExactSum g2_ref, d2_ref, odd_ref;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double s = std::pow(10.0, -6.0 + 12.0 * std::fmod(0.6180339887 * i, 1.0));
+    g[i] = s * Vec3(std::sin(1.0 * i), std::cos(2.0 * i), std::sin(3.0 * i + 1));
+    g_old[i] = g[i] * (1.0 + 1e-3 * std::sin(5.0 * i));
+    g2_ref += g[i].squaredNorm();
+    const double d = (g[i] - g_old[i]).norm();
+    d2_ref += d * d;
+    if (i % 2) {
+      odd.push_back(static_cast<std::uint32_t>(i));
+      odd_ref += g[i].squaredNorm();
+    }
+  }
+  for (int threads : {1, 4}) {
+    omp_set_num_threads(threads);
+    EXPECT_EQ(cadence_g2(g, nullptr).value(), g2_ref.value()) << threads << " threads";
+    EXPECT_EQ(cadence_g2(g, &odd).value(), odd_ref.value()) << threads << " threads";
+    common::ExactSum d2;
+    double cmax = 0;
+    cadence_change(g, g_old, 0.0, nullptr, d2, cmax);
+    EXPECT_EQ(d2.value(), d2_ref.value()) << threads << " threads";
+    EXPECT_NEAR(cmax, 1e-3, 1e-6);
+  }
+  omp_set_num_threads(omp_get_num_procs());
+}
 
 TEST(GravityCadence, PileEnergyAndRestart) {
   Spheres sp = lattice_pile(10.0, 1.0, 2000.0, 0.05, 3);

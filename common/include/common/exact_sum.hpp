@@ -8,8 +8,8 @@
 /// addition is not associative. With exact sums each rank adds its own terms, the accumulators
 /// are added (integer addition is associative: an MPI_SUM of their limbs), and every
 /// decomposition gives the same bits as one rank. The result is also the correctly rounded sum
-/// (round to nearest, ties to even; a total in the subnormal range, below 2.2e-308, is rounded
-/// twice) of the exact terms, so a total far smaller than its terms
+/// (round to nearest, ties to even; a total in the subnormal range is exact, every sum of doubles
+/// being a multiple of 2^-1074) of the exact terms, so a total far smaller than its terms
 /// (momentum of a body at rest, an energy change) keeps every digit the terms carry.
 ///
 /// Representation: a double is m 2^e with an integer m < 2^53 and e in [-1074, 971]; its bit

@@ -26,19 +26,30 @@ std::string field_list(const std::vector<Field>& fields) {
   for (const Field& f : fields) s += f.name + ":" + std::to_string(f.ncomp) + ":" + f.unit + ":" + f.description + ";";
   return s;
 }
-}  // namespace
 
-SphereBlock::SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
-                         const std::vector<Field>& block_fields, const std::string& path)
-    : plan(comm, keys_of(row), dense_splitters(global_rows(comm, row.size()), comm.size)) {
-  if (row.size() != local.count()) throw std::logic_error("SphereBlock: one row per sphere");
+// Collective, before any row moves: every rank's input is checked and a fault anywhere is a
+// logic_error on every rank (a rank that threw alone would leave the others in the alltoallv).
+std::vector<RowKey> checked_keys(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+                                 const std::vector<Field>& block_fields, const std::string& path) {
+  const std::size_t total = global_rows(comm, row.size());
+  const std::size_t block = dense_first(total, comm.size, comm.rank + 1) - dense_first(total, comm.size, comm.rank);
+  bool ok = row.size() == local.count();
+  for (const Field& f : block_fields) ok = ok && f.values.size() == block * f.ncomp;
+  if (!comm.all(ok))
+    throw std::logic_error("write_sphere_set_mpi: a rank's rows or block fields do not match its spheres or its block (" +
+                           path + ")");
   // names, widths, units and descriptions are HDF5 metadata: the same on every rank
   const std::string fields = field_list(block_fields) + "|" + field_list(local.fields);
   if (!comm.all(comm.bcast(fields) == fields))
     throw std::logic_error("write_sphere_set_mpi: the ranks' field lists differ (" + path + ")");
-  for (const Field& f : block_fields)
-    if (f.values.size() != plan.count() * f.ncomp)
-      throw std::logic_error("write_sphere_set_mpi: block field '" + f.name + "' does not match the rank's block");
+  return keys_of(row);
+}
+}  // namespace
+
+SphereBlock::SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+                         const std::vector<Field>& block_fields, const std::string& path)
+    : plan(comm, checked_keys(comm, local, row, block_fields, path),
+           dense_splitters(global_rows(comm, row.size()), comm.size)) {
   set.time = local.time;
   set.step = local.step;
   SphereSet::zip_arrays([&](const SphereArray& a, auto& to, const auto& from) { to = plan.move(from, a.width); },

@@ -134,7 +134,11 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     const double time = sim->time();
     const Diagnostics d = row ? sim->diagnostics() : Diagnostics{};
     const LevelStats ls = row ? sim->gather_level_stats() : LevelStats{};
-    if (row && std::isnan(E0)) E0 = d.accounted();  // every rank: checkpoints record it
+    if (row) {  // every rank (d is the same bits everywhere): a NaN is exit 3 on all of them
+      const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
+      common::require_finite(e, 6, series_path, "energies at step " + std::to_string(step));
+      if (std::isnan(E0)) E0 = d.accounted();  // checkpoints record it
+    }
     on_root(comm, [&] {
       if (row && levels) {
         common::SeriesRow lr = levels->row();
@@ -142,8 +146,6 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         levels->write(lr);
       }
       if (row) {
-        const double e[] = {d.kinetic, d.rotational, d.potential_self, d.potential_uniform, d.elastic, d.total()};
-        common::require_finite(e, 6, series_path, "energies at step " + std::to_string(step));
         common::SeriesRow r = series->row();
         detail::series_row(r, step, time, d, E0, progress.elapsed(), false);
         series->write(r);

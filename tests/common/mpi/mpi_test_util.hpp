@@ -5,6 +5,7 @@
 #include <mpi.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -27,7 +28,9 @@ struct SharedDir {
     std::string p;
     if (world().rank == 0) {
       char tmpl[] = "/tmp/common_mpi.XXXXXX";
-      p = ::mkdtemp(tmpl);
+      const char* made = ::mkdtemp(tmpl);
+      if (!made) std::abort();  // no shared scratch directory: nothing to test
+      p = made;
     }
     path = world().bcast(p);
   }

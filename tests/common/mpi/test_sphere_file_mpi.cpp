@@ -59,7 +59,7 @@ int owner(std::size_t k, Spread how) {
   const int P = world().size;
   switch (how) {
     case Spread::hashed: return static_cast<int>((k * 2654435761u >> 7) % P);
-    case Spread::last_empty: return static_cast<int>(k % (P - 1));
+    case Spread::last_empty: return P > 1 ? static_cast<int>(k % (P - 1)) : 0;
     case Spread::all_on_last: return P - 1;
   }
   return 0;
@@ -173,6 +173,15 @@ TEST(SphereFileMpi, BlockFieldsThatDoNotMatchTheBlockAreRefused) {
   Part p = part(global_set(30), Spread::hashed);
   p.block[0].values.push_back(0.5);  // one row too many on every rank
   EXPECT_THROW(common::mpi::write_sphere_set_mpi(world(), d.path + "/x.h5", p.local, p.row, p.block, prov()),
+               std::logic_error);
+  // on one rank only: every rank throws (none is left waiting in the row move)
+  Part q = part(global_set(30), Spread::hashed);
+  if (world().rank == world().size - 1) q.block[0].values.pop_back();
+  EXPECT_THROW(common::mpi::write_sphere_set_mpi(world(), d.path + "/y.h5", q.local, q.row, q.block, prov()),
+               std::logic_error);
+  Part r = part(global_set(30), Spread::hashed);
+  if (world().rank == 0) r.row.push_back(29);  // a row without a sphere
+  EXPECT_THROW(common::mpi::write_sphere_set_mpi(world(), d.path + "/z.h5", r.local, r.row, r.block, prov()),
                std::logic_error);
 }
 
