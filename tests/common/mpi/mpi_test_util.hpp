@@ -50,6 +50,19 @@ inline common::Provenance prov() {
   return p;
 }
 
+/// Which rank holds global row k of a test set: hashed, all but the last rank (P > 1), or all on
+/// the last rank.
+enum class Spread { hashed, last_empty, all_on_last };
+inline int owner(std::size_t k, Spread how) {
+  const int P = world().size;
+  switch (how) {
+    case Spread::hashed: return static_cast<int>((k * 2654435761u >> 7) % P);
+    case Spread::last_empty: return P > 1 ? static_cast<int>(k % (P - 1)) : 0;
+    case Spread::all_on_last: return P - 1;
+  }
+  return 0;
+}
+
 inline std::string contents(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), {});

@@ -29,6 +29,8 @@ using common::ParticleSnapshot;
 using mpi_test::contents;
 using mpi_test::prov;
 using mpi_test::SharedDir;
+using mpi_test::owner;
+using mpi_test::Spread;
 using mpi_test::world;
 using common::mpi::RowKey;
 namespace fs = std::filesystem;
@@ -90,17 +92,6 @@ ParticleSnapshot take(const ParticleSnapshot& g, const std::vector<std::size_t>&
   return s;
 }
 
-/// Which rank holds global row k.
-enum class Spread { hashed, last_empty, all_on_last };
-int owner(std::size_t k, Spread how) {
-  const int P = world().size;
-  switch (how) {
-    case Spread::hashed: return static_cast<int>((k * 2654435761u >> 7) % P);
-    case Spread::last_empty: return static_cast<int>(k % (P - 1));
-    case Spread::all_on_last: return P - 1;
-  }
-  return 0;
-}
 
 /// Write g collectively (each rank its rows, in reverse order) and serially on rank 0; h5diff.
 void check_against_serial(const ParticleSnapshot& g, Spread how, const std::string& dir) {

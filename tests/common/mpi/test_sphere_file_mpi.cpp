@@ -27,6 +27,8 @@ using common::SphereSet;
 using mpi_test::contents;
 using mpi_test::prov;
 using mpi_test::SharedDir;
+using mpi_test::owner;
+using mpi_test::Spread;
 using mpi_test::world;
 namespace fs = std::filesystem;
 
@@ -54,16 +56,6 @@ SphereSet global_set(std::size_t n) {
   return s;
 }
 
-enum class Spread { hashed, last_empty, all_on_last };
-int owner(std::size_t k, Spread how) {
-  const int P = world().size;
-  switch (how) {
-    case Spread::hashed: return static_cast<int>((k * 2654435761u >> 7) % P);
-    case Spread::last_empty: return P > 1 ? static_cast<int>(k % (P - 1)) : 0;
-    case Spread::all_on_last: return P - 1;
-  }
-  return 0;
-}
 
 /// This rank's spheres of g (rows in reverse order, with their rows; the per-sphere field only)
 /// and its block of the carried field.

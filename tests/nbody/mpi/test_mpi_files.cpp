@@ -1,0 +1,163 @@
+/// @file test_mpi_files.cpp
+/// ssdem-grav's collective outputs on 2 and 3 ranks (label mpi), against one rank's Simulation on
+/// a self-gravitating pile with contacts that carries a per-sphere field (damage, as a hand-off
+/// does) and a per-sphere field the run keeps (dissipated): after 40 steps the ranks' series-row
+/// quantities (DomainSim::diagnostics) are one rank's bits, the collective snapshot and checkpoint
+/// (io_mpi.hpp) are h5diff-equal to the serial writers' files, and the checkpoint, read back,
+/// continues on these ranks to the same state as one rank's continuation.
+#include <gtest/gtest.h>
+#include <mpi.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <memory>
+#include <filesystem>
+#include <string>
+
+#include "common/rng.hpp"
+#include "ssdem/dt_rule.hpp"
+#include "ssdem/generators.hpp"
+#include "ssdem/io.hpp"
+#include "ssdem/mpi/domain_sim.hpp"
+#include "ssdem/mpi/io_mpi.hpp"
+
+using namespace ssdem;
+
+namespace {
+mpi::Comm& world() {
+  static mpi::Comm c(MPI_COMM_WORLD);
+  return c;
+}
+
+// G = 1 pile of 0.1-radius spheres, random velocities and spins, a carried damage field.
+Spheres pile() {
+  Spheres sp = lattice_pile(0.75, 0.1, 1.0, 0.05, 3, Vec3::Zero(), 0);
+  const double M = total_mass(sp), vesc = std::sqrt(2 * M / 0.75);
+  common::Field damage{"damage", "1", 1, {}, "scalar damage (hand-off)"};
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    common::KeyedRng rng(23, sp.id[i]);
+    sp.v[i] = 0.3 * vesc * Vec3(rng.normal(), rng.normal(), rng.normal()) / std::sqrt(3.0);
+    sp.w[i] = Vec3(rng.normal(), rng.normal(), rng.normal());
+    damage.values.push_back(rng.uniform());
+  }
+  sp.carried = {damage};
+  return sp;
+}
+
+SimConfig config(const Spheres& sp) {
+  const DtAdvice adv = choose_kn_dt(sp.m[0], 0.1, 1.0, 1.0, 0.01, 30);
+  SimConfig c;
+  c.self_gravity = true;
+  c.gravity.G = 1.0;
+  c.adaptive_gravity = true;
+  c.contacts = true;
+  c.contact = gravel_preset(adv.kn);
+  c.dt = 0.77 * adv.dt;
+  return c;
+}
+
+common::Provenance prov() {
+  return common::Provenance{"test_nbody_mpi_files", "1.0", "abcdef", "mpirun test", "[t]\nx = 1\n"};
+}
+
+std::string shared_dir() {
+  std::string p;
+  if (world().rank == 0) {
+    char tmpl[] = "/tmp/nbody_mpi_files.XXXXXX";
+    const char* made = ::mkdtemp(tmpl);
+    if (!made) std::abort();
+    p = made;
+  }
+  return world().bcast(p);
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+void run_to_boundary(mpi::DomainSim& d, Simulation* s, int steps) {
+  for (int k = 0; k < steps || !d.at_gravity_boundary(); ++k) {
+    d.step();
+    if (s) s->step();
+  }
+}
+}  // namespace
+
+TEST(MpiFiles, RowsSnapshotAndCheckpointEqualOneRanksWithCarriedFields) {
+  const Spheres sp = pile();
+  const SimConfig cfg = config(sp);
+  const std::string dir = shared_dir();
+  mpi::DomainSim d(world(), sp, cfg);
+  std::unique_ptr<Simulation> ref;
+  if (world().rank == 0) ref = std::make_unique<Simulation>(sp, cfg);
+  run_to_boundary(d, ref.get(), 40);
+  ASSERT_EQ(world().all(ref ? ref->step_count() == d.step_count() : true), true);
+
+  // the series row's quantities: one rank's bits on every rank
+  const Diagnostics got = d.diagnostics();
+  int rows_equal = 1;
+  if (ref) {
+    const Diagnostics want = ref->diagnostics();
+    const double a[] = {got.kinetic, got.rotational, got.potential_self, got.elastic, got.dissipated,
+                        got.momentum.x(), got.momentum.y(), got.momentum.z(), got.angular_momentum.z()};
+    const double b[] = {want.kinetic, want.rotational, want.potential_self, want.elastic, want.dissipated,
+                        want.momentum.x(), want.momentum.y(), want.momentum.z(), want.angular_momentum.z()};
+    for (int k = 0; k < 9; ++k) {
+      EXPECT_TRUE(same_bits(a[k], b[k])) << "quantity " << k << ": " << a[k] << " vs " << b[k];
+      rows_equal &= same_bits(a[k], b[k]);
+    }
+    EXPECT_EQ(got.contacts, want.contacts);
+    EXPECT_GT(want.contacts, 0u);
+    EXPECT_TRUE(same_bits(got.max_overlap_frac, want.max_overlap_frac));
+  }
+  MPI_Bcast(&rows_equal, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  EXPECT_TRUE(rows_equal) << world().size << " ranks";
+
+  // collective snapshot and checkpoint against the serial writers
+  const mpi::DomainSim::Local L = d.local_state();
+  const StateHeader h{cfg.dt, L.st.gravity_block, cfg.contact.kn, "", cfg.self_gravity, L.has_prev, false};
+  mpi::write_snapshot_mpi(world(), dir + "/snap_par.h5", d, L, prov());
+  mpi::write_checkpoint_mpi(world(), dir + "/ck_par.h5", d, L, h, 12.5, prov());
+  int files_equal = 1;
+  if (ref) {
+    SimState st = ref->state();
+    st.energy0 = 12.5;
+    write_snapshot(dir + "/snap_ser.h5", st.sp, st.time, st.step, prov());
+    write_checkpoint(dir + "/ck_ser.h5", st, cfg.dt, st.gravity_block, prov(), cfg.contact.kn);
+    for (const std::string f : {"snap", "ck"}) {
+      std::string cmd = "h5diff ";
+      cmd.append(dir).append("/").append(f).append("_ser.h5 ").append(dir).append("/").append(f).append("_par.h5");
+      const bool eq = std::system(cmd.c_str()) == 0;
+      EXPECT_TRUE(eq) << cmd;
+      files_equal &= eq;
+    }
+    const common::SphereSet back = common::read_sphere_set(dir + "/snap_par.h5");
+    ASSERT_NE(back.field("damage"), nullptr);
+    EXPECT_EQ(back.field("damage")->values, sp.carried[0].values);  // carried fields never move
+  }
+  MPI_Bcast(&files_equal, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  EXPECT_TRUE(files_equal);
+
+  // the collective checkpoint continues on these ranks as one rank's state does
+  double dt = 0, kn = 0;
+  int every = 0;
+  SimState st = read_checkpoint(dir + "/ck_par.h5", &dt, &every, &kn);
+  SimConfig c2 = cfg;
+  c2.dt = dt;
+  c2.contact.kn = kn;
+  st.gravity_block = every;
+  mpi::DomainSim d2(world(), st, c2);
+  run_to_boundary(d2, ref.get(), 20);
+  const SimState mine = d2.gather_state();
+  int cont_equal = 1;
+  if (ref) {
+    const SimState want = ref->state();
+    ASSERT_EQ(mine.sp.size(), want.sp.size());
+    for (std::size_t i = 0; i < want.sp.size(); ++i)
+      cont_equal &= mine.sp.x[i] == want.sp.x[i] && mine.sp.v[i] == want.sp.v[i];
+    EXPECT_TRUE(cont_equal) << "continuation differs from one rank's";
+    EXPECT_EQ(mine.sp.carried.size(), 1u);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+  if (world().rank == 0) std::filesystem::remove_all(dir);
+}
