@@ -10,6 +10,7 @@
 #                       checkpoints (runs/nbody-mpi-paper-scaling/scaling.md)
 #   mpm-mpi-files-bench : mpm-frag's collective files: memory and wall against MPM_FILES_OLD
 #   nbody-rows-bench    : ms per series row of ssdem-grav, serial and on 2 ranks
+#   nbody-mpi-files-bench: ssdem-grav's collective files on 2 ranks: memory and wall vs another binary
 #   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
 #                       paper's 10^6 spheres on 64, 512 and 4 096 ranks (stated model, seconds)
 # Included by pipelines/Makefile (ROOT, PY, JOBS, MPI_BUILD, build-mpi).
@@ -48,6 +49,16 @@ nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks 
 mpm-mpi-files-bench: build-mpi ## mpm-frag on 2-3 ranks: memory and wall of snapshots, checkpoints, restart vs MPM_FILES_OLD
 	@test -n "$(MPM_FILES_OLD)" || { echo "set MPM_FILES_OLD=<an MPI mpm-frag of another commit>"; exit 2; }
 	$(ROOT)/pipelines/mpi/mpm_files_bench.sh $(MPI_BUILD)/mpm/mpm-frag $(MPM_FILES_OLD) $(RUNS)/mpm-mpi-files \
+	  $(MPI_SCALING_REPS) $(MPIRUN)
+
+# ssdem-grav's files on MPI ranks (issue 19 item 4): peak memory per rank and wall of a
+# 151 837-sphere pile writing snapshots, rows and a checkpoint on 2 ranks, this build against
+# NBODY_FILES_OLD (an MPI ssdem-grav of another commit), interleaved MPI_SCALING_REPS times;
+# runs/nbody-mpi-files/files.md.
+.PHONY: nbody-mpi-files-bench
+nbody-mpi-files-bench: build-mpi ## ssdem-grav on 2 ranks: memory and wall of collective snapshots/checkpoints vs NBODY_FILES_OLD
+	@test -n "$(NBODY_FILES_OLD)" || { echo "set NBODY_FILES_OLD=<an MPI ssdem-grav of another commit>"; exit 2; }
+	$(ROOT)/pipelines/mpi/nbody_files_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_FILES_OLD) $(RUNS)/nbody-mpi-files \
 	  $(MPI_SCALING_REPS) $(MPIRUN)
 
 # Cost of ssdem-grav's series rows, serial and on 2 ranks (issues 15, 19), this build against
