@@ -9,7 +9,7 @@
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libeigen3-dev libhdf5-dev hdf5-tools libcli11-dev
       libspdlog-dev libtomlplusplus-dev libgtest-dev libgmock-dev libbenchmark-dev
-      python3-numpy python3-h5py python3-matplotlib python3-scipy)
+      python3-numpy python3-h5py python3-matplotlib python3-scipy qemu-user)
 if [ "${1:-}" = "--mpi" ]; then
   pkgs+=(libopenmpi-dev openmpi-bin libhdf5-openmpi-dev)
   shift
