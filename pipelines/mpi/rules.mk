@@ -52,14 +52,16 @@ mpm-mpi-files-bench: build-mpi ## mpm-frag on 2-3 ranks: memory and wall of snap
 	  $(MPI_SCALING_REPS) $(MPIRUN)
 
 # ssdem-grav's files on MPI ranks (issue 19 item 4): peak memory per rank and wall of a
-# 151 837-sphere pile writing snapshots, rows and a checkpoint on 2 ranks, this build against
+# 151 837-sphere pile and of the 1 km impact debris writing snapshots, rows and a checkpoint on 2
+# ranks, this build against
 # NBODY_FILES_OLD (an MPI ssdem-grav of another commit), interleaved MPI_SCALING_REPS times;
 # runs/nbody-mpi-files/files.md.
 .PHONY: nbody-mpi-files-bench
 nbody-mpi-files-bench: build-mpi ## ssdem-grav on 2 ranks: memory and wall of collective snapshots/checkpoints vs NBODY_FILES_OLD
 	@test -n "$(NBODY_FILES_OLD)" || { echo "set NBODY_FILES_OLD=<an MPI ssdem-grav of another commit>"; exit 2; }
+	test -f $(PAPER_SPHERES) || { echo "no $(PAPER_SPHERES): run make -C pipelines nbody-rows-bench first" >&2; exit 2; }
 	$(ROOT)/pipelines/mpi/nbody_files_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_FILES_OLD) $(RUNS)/nbody-mpi-files \
-	  $(MPI_SCALING_REPS) $(MPIRUN)
+	  $(MPI_SCALING_REPS) $(PAPER_SPHERES) $(MPIRUN)
 
 # Cost of ssdem-grav's series rows, serial and on 2 ranks (issues 15, 19), this build against
 # NBODY_ROWS_OLD / NBODY_ROWS_OLD_MPI (default: this build itself); runs/nbody-rows/rows.md.

@@ -16,23 +16,25 @@ std::vector<RowKey> keys_of(const std::vector<std::uint64_t>& row) {
   for (std::size_t i = 0; i < row.size(); ++i) k[i] = RowKey{0, row[i]};
   return k;
 }
-std::size_t global_rows(Comm& comm, std::size_t n) {
-  long long t = static_cast<long long>(n);
-  comm.sum(&t, 1);
-  return static_cast<std::size_t>(t);
-}
 std::string field_list(const std::vector<Field>& fields) {
   std::string s;
   for (const Field& f : fields) s += f.name + ":" + std::to_string(f.ncomp) + ":" + f.unit + ":" + f.description + ";";
   return s;
 }
+}  // namespace
+
+struct SphereBlock::Checked {
+  std::vector<RowKey> keys, split;
+};
 
 // Collective, before any row moves: every rank's input is checked and a fault anywhere is a
 // logic_error on every rank (a rank that threw alone would leave the others in the alltoallv).
-std::vector<RowKey> checked_keys(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
-                                 const std::vector<Field>& block_fields, const std::string& path) {
-  const std::size_t total = global_rows(comm, row.size());
-  const std::size_t block = dense_first(total, comm.size, comm.rank + 1) - dense_first(total, comm.size, comm.rank);
+SphereBlock::Checked SphereBlock::check(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+                                        const std::vector<Field>& block_fields, const std::string& path) {
+  long long total = static_cast<long long>(row.size());
+  comm.sum(&total, 1);
+  const auto n = static_cast<std::size_t>(total);
+  const std::size_t block = dense_first(n, comm.size, comm.rank + 1) - dense_first(n, comm.size, comm.rank);
   bool ok = row.size() == local.count();
   for (const Field& f : block_fields) ok = ok && f.values.size() == block * f.ncomp;
   if (!comm.all(ok))
@@ -42,14 +44,15 @@ std::vector<RowKey> checked_keys(Comm& comm, const SphereSet& local, const std::
   const std::string fields = field_list(block_fields) + "|" + field_list(local.fields);
   if (!comm.all(comm.bcast(fields) == fields))
     throw std::logic_error("write_sphere_set_mpi: the ranks' field lists differ (" + path + ")");
-  return keys_of(row);
+  return Checked{keys_of(row), dense_splitters(n, comm.size)};
 }
-}  // namespace
 
 SphereBlock::SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
                          const std::vector<Field>& block_fields, const std::string& path)
-    : plan(comm, checked_keys(comm, local, row, block_fields, path),
-           dense_splitters(global_rows(comm, row.size()), comm.size)) {
+    : SphereBlock(comm, check(comm, local, row, block_fields, path), local, block_fields) {}
+
+SphereBlock::SphereBlock(Comm& comm, const Checked& c, const SphereSet& local, const std::vector<Field>& block_fields)
+    : plan(comm, c.keys, c.split) {
   set.time = local.time;
   set.step = local.step;
   SphereSet::zip_arrays([&](const SphereArray& a, auto& to, const auto& from) { to = plan.move(from, a.width); },

@@ -232,15 +232,13 @@ void DomainSim::close_gravity_block() {
       const std::size_t n = gsp_.size();
       // global sums, exact over the ranks: the bits of one rank's (gravity_cadence.hpp)
       common::ExactSum g2s = cadence_g2(ag_, &own_);
-      common::ExactSum* g2p = &g2s;
-      common::mpi::allreduce(comm_, &g2p, 1);
+      common::mpi::allreduce(comm_, g2s);
       const double g2 = g2s.value();
       const double floor = 0.1 * std::sqrt(g2 / static_cast<double>(std::max<std::size_t>(n, 1)));
       common::ExactSum d2s;
       double cmax = 0;
       cadence_change(ag_, ag_old_, floor, &own_, d2s, cmax);
-      common::ExactSum* d2p = &d2s;
-      common::mpi::allreduce(comm_, &d2p, 1);
+      common::mpi::allreduce(comm_, d2s);
       cmax = comm_.max(cmax);
       next = next_gravity_block(k, g2, d2s.value(), cmax, cfg_, cadence_);
     }

@@ -1,9 +1,13 @@
 /// @file mpi_test_util.hpp
 /// Helpers of the collective-file tests (label mpi): the world communicator, a directory shared
-/// by the ranks, a provenance record, a file's bytes.
+/// by the ranks, a provenance record, which rank holds which row, a write under a file-size
+/// limit, a file's bytes.
 #pragma once
 #include <mpi.h>
+#include <sys/resource.h>
 #include <unistd.h>
+
+#include <csignal>
 
 #include <cstdlib>
 #include <filesystem>
@@ -13,6 +17,7 @@
 
 #include "common/mpi_comm.hpp"
 #include "common/provenance.hpp"
+#include "common/status.hpp"
 
 namespace mpi_test {
 
@@ -61,6 +66,27 @@ inline int owner(std::size_t k, Spread how) {
     case Spread::all_on_last: return P - 1;
   }
   return 0;
+}
+
+/// Run `write` with a 64 KiB file-size limit on this rank (a full disk, SIGXFSZ ignored); true if
+/// it threw common::IoError (its message in *what).
+template <class F>
+bool io_error_under_file_size_limit(F&& write, std::string* what = nullptr) {
+  std::signal(SIGXFSZ, SIG_IGN);
+  rlimit old{};
+  ::getrlimit(RLIMIT_FSIZE, &old);
+  rlimit lim = old;
+  lim.rlim_cur = 64 * 1024;
+  ::setrlimit(RLIMIT_FSIZE, &lim);
+  bool threw = false;
+  try {
+    write();
+  } catch (const common::IoError& e) {
+    threw = true;
+    if (what) *what = e.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old);
+  return threw;
 }
 
 inline std::string contents(const std::string& path) {

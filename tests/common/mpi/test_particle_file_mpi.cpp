@@ -8,10 +8,8 @@
 /// ranks whose field lists differ are refused on every rank.
 #include <gtest/gtest.h>
 #include <mpi.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
-#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -144,21 +142,9 @@ TEST(ParticleFileMpi, AFullDiskThrowsOnEveryRankAndKeepsTheEarlierFile) {
   for (std::size_t k = 0; k < big.count(); ++k)
     if (owner(k, Spread::hashed) == world().rank) mine.push_back(k);
   const ParticleSnapshot local = take(big, mine, keys);
-  std::signal(SIGXFSZ, SIG_IGN);
-  rlimit old{};
-  ::getrlimit(RLIMIT_FSIZE, &old);
-  rlimit lim = old;
-  lim.rlim_cur = 64 * 1024;
-  ::setrlimit(RLIMIT_FSIZE, &lim);
-  bool threw = false;
   std::string what;
-  try {
-    common::mpi::write_particle_snapshot_mpi(world(), path, local, keys, prov());
-  } catch (const common::IoError& e) {
-    threw = true;
-    what = e.what();
-  }
-  ::setrlimit(RLIMIT_FSIZE, &old);
+  const bool threw = mpi_test::io_error_under_file_size_limit(
+      [&] { common::mpi::write_particle_snapshot_mpi(world(), path, local, keys, prov()); }, &what);
   EXPECT_TRUE(threw) << "rank " << world().rank;
   EXPECT_NE(what.find(path), std::string::npos) << what;
   if (world().rank == 0) {

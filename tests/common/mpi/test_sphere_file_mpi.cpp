@@ -8,10 +8,8 @@
 /// kept; block fields that do not match the rank's block are refused.
 #include <gtest/gtest.h>
 #include <mpi.h>
-#include <sys/resource.h>
 
 #include <cmath>
-#include <csignal>
 #include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
@@ -139,20 +137,11 @@ TEST(SphereFileMpi, AFullDiskThrowsOnEveryRankAndKeepsTheEarlierFile) {
   common::mpi::write_sphere_set_mpi(world(), path, small.local, small.row, small.block, prov());
   const std::string before = world().rank == 0 ? contents(path) : std::string();
   const Part big = part(global_set(10000), Spread::hashed);  // about 1.4 MB
-  std::signal(SIGXFSZ, SIG_IGN);
-  rlimit old{};
-  ::getrlimit(RLIMIT_FSIZE, &old);
-  rlimit lim = old;
-  lim.rlim_cur = 64 * 1024;
-  ::setrlimit(RLIMIT_FSIZE, &lim);
-  bool threw = false;
-  try {
-    common::mpi::write_sphere_set_mpi(world(), path, big.local, big.row, big.block, prov());
-  } catch (const common::IoError&) {
-    threw = true;
-  }
-  ::setrlimit(RLIMIT_FSIZE, &old);
+  std::string what;
+  const bool threw = mpi_test::io_error_under_file_size_limit(
+      [&] { common::mpi::write_sphere_set_mpi(world(), path, big.local, big.row, big.block, prov()); }, &what);
   EXPECT_TRUE(threw) << "rank " << world().rank;
+  EXPECT_NE(what.find(path), std::string::npos) << what;
   if (world().rank == 0) {
     EXPECT_EQ(contents(path), before) << "the earlier file changed";
     for (const auto& e : fs::directory_iterator(d.path))

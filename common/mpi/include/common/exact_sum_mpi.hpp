@@ -14,5 +14,10 @@ namespace common::mpi {
 /// Collective: replace each of the `n` accumulators by its sum over the ranks (the same `n` and
 /// order on every rank). Fewer than 2^31 ranks.
 void allreduce(Comm& comm, ExactSum* const* sums, std::size_t n);
+/// Collective: one accumulator.
+inline void allreduce(Comm& comm, ExactSum& sum) {
+  ExactSum* p = &sum;
+  allreduce(comm, &p, 1);
+}
 
 }  // namespace common::mpi

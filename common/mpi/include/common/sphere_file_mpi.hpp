@@ -25,6 +25,12 @@ struct SphereBlock {
   SphereSet set;    ///< the block's rows
   SphereBlock(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
               const std::vector<Field>& block_fields, const std::string& path);
+
+ private:
+  struct Checked;  ///< the rows' keys and the blocks' splitters, after every rank's input was checked
+  static Checked check(Comm& comm, const SphereSet& local, const std::vector<std::uint64_t>& row,
+                       const std::vector<Field>& block_fields, const std::string& path);
+  SphereBlock(Comm& comm, const Checked& c, const SphereSet& local, const std::vector<Field>& block_fields);
 };
 
 /// Bytes to reserve for a sphere file of `total` rows with the fields of `s` (data plus an
