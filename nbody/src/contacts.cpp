@@ -86,7 +86,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   T.resize(n);
   std::size_t ncont = 0;
   Worst worst;
-  const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pres_.data(), pD_.data()};
+  const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pres_.data(), pD_.data(), pedge_.data()};
 #pragma omp parallel if (P >= kOmpMin)
   {
     Worst lw;
@@ -107,6 +107,10 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const double reach = sp.s[i] + sp.s[j];
       if (!ph_.active[p] && (sp.x[j] - sp.x[i]).squaredNorm() >= reach * reach) {
         pD_[p] = 0.0;
+        if (pedge_[p]) {  // last evaluation's edge force: spent
+          pres_[p] = PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+          pedge_[p] = 0;
+        }
         continue;
       }
       rows[nl] = p;
@@ -131,6 +135,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   const PairForces* pres = pres_.data();
   const double* pD = pD_.data();
   const std::uint8_t* active = ph_.active.data();
+  const std::uint8_t* edge = pedge_.data();
   // A sphere's sums over its listed pairs (j side, then i side: ascending partner). A pair not in
   // contact holds a zero record, and adding its +0 leaves f and t bit for bit as skipping it would
   // (a sum started at +0 is never -0). Where at least a quarter of the evaluated pairs are in
@@ -141,14 +146,14 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     constexpr bool kEvery = decltype(every)::value;
     for (std::uint32_t q = jrow_[k]; q < jrow_[k + 1]; ++q) {
       const std::uint32_t p = jpair_[q];
-      if (kEvery || active[p]) {
+      if (kEvery || active[p] || edge[p]) {
         f -= pres[p].F;
         t += pres[p].Tn;
       }
       dk += 0.5 * pD[p];
     }
     for (std::uint32_t p = irow_[k]; p < irow_[k + 1]; ++p) {
-      if (kEvery || active[p]) {
+      if (kEvery || active[p] || edge[p]) {
         f += pres[p].F;
         t += pres[p].Tp;
       }
@@ -174,13 +179,15 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         const Plane& pl = walls_[w];
         double dist = (sp.x[k] - pl.point).dot(pl.normal);
         const std::size_t s = k * nw + w;
-        if (dist >= sp.s[k]) {
+        if (dist >= sp.s[k] && !(wh_.active[s] && coeffs_.edges)) {
           if constexpr (TableInfo::has_history(PARTS)) {  // released: the history's energy is lost
             if (wh_.active[s]) dk += contact_elastic_energy<PARTS>(coeffs_, 0.0, sp.s[k], wh_.row(s), true);
           }
           wh_.active[s] = 0;
           continue;
         }
+        // (in contact, or released now with edges on: the kernel gives the edge force and the
+        // history's energy as dissipated)
         dist = std::max(dist, 1e-9 * sp.s[k]);
         bool act = wh_.active[s];
         PairResult res;
@@ -192,6 +199,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         f += res.F;
         t += res.Tp;
         dk += res.diss;
+        if (!act) continue;
         ++lc;
         lw.offer(res.overlap / sp.s[k], k, k, s);
       }

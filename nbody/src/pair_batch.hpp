@@ -26,14 +26,15 @@ struct Arrays {
   const std::uint32_t* pi;
   const std::uint32_t* pj;
   ContactHistory& hist;
-  PairForces* out;  ///< per pair in contact
-  double* D;        ///< per pair: energy dissipated over the pair's step (0 without contact)
+  PairForces* out;     ///< per pair in contact (or released with an edge force)
+  double* D;           ///< per pair: energy dissipated over the pair's step (0 without contact)
+  std::uint8_t* edge;  ///< per pair: 1 if its record is a released pair's edge force
 };
 
 /// Evaluates the pairs rows[0..n) (n <= kLanes) with steps h[0..n); calls on_contact(p, overlap /
-/// smaller radius) for each pair p in contact. Pairs not in contact get a zero result record,
-/// D = the energy their history held if they were in contact (0 otherwise), and keep their
-/// history row.
+/// smaller radius) for each pair p in contact. Pairs not in contact get a zero result record
+/// (released with edges on: their edge force, and edge = 1), D = the energy their history held
+/// if they were in contact (plus the edge dashpot's; 0 otherwise), and keep their history row.
 template <unsigned PARTS, class OnContact>
 inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32_t* rows, const double* h, int n,
                       const OnContact& on_contact) {
@@ -78,15 +79,19 @@ inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32
     const std::uint32_t p = prow[l];
     a.hist.active[p] = con[l] ? 1 : 0;
     a.D[p] = o.diss[l];
-    if (con[l]) {
+    const bool edge = !con[l] && act[l] && c.edges;
+    a.edge[p] = edge ? 1 : 0;
+    if (con[l] || edge) {
       PairForces& r = a.out[p];
       r.F = o.F.at(l);
       r.Tp = o.Tp.at(l);
       r.Tn = o.Tn.at(l);
-      if constexpr (HIST) store_hist<PARTS>(cols, p, hl, l);
-      on_contact(p, frac[l]);
     } else {
       a.out[p] = PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+    }
+    if (con[l]) {
+      if constexpr (HIST) store_hist<PARTS>(cols, p, hl, l);
+      on_contact(p, frac[l]);
     }
   }
 }

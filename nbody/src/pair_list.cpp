@@ -378,6 +378,7 @@ void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>&
   // is evaluated before its spheres sum it, since every pair of a summed sphere is evaluated)
   pres_.assign(P, PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()});
   pD_.resize(P);
+  pedge_.assign(P, 0);
   // CSR of pairs by their j member (ascending pair index = ascending partner i).
   jrow_.assign(n + 1, 0);
   for (std::size_t p = 0; p < P; ++p) ++jrow_[pj_[p] + 1];

@@ -52,25 +52,30 @@ ImpactResult head_on(double en, double steps_per_contact, bool damping = true,
 }  // namespace
 
 TEST(ContactNormal, RestitutionAndDurationAt50Steps) {
-  // Default (extrapolated) predictor: e_n and contact time within 1e-3 at 50 steps per contact.
+  // Default (extrapolated) predictor, edge impulses on: e_n within 2e-3 (relative; measured
+  // 1.4e-3, 2.3e-4, 4.4e-5 for e_n = 0.2, 0.55, 0.8) and the contact time within 1e-3 at 50 steps
+  // per contact. (Before the edge impulses the e_n error here was 1.2e-4 only because, at an
+  // integer step count, the first-order onset and release errors cancelled: at 50.5 steps it
+  // was 6.7e-3. test_contact_edges.cpp measures the worst case over onset phases.)
   for (double en : {0.2, 0.55, 0.8}) {
     const ImpactResult r = head_on(en, 50);
     std::printf("e_n = %.2f, 50 steps: e_meas = %.6f (rel err %.2e), t_c/t_c,analytic = %.6f\n", en,
                 r.e_meas, std::fabs(r.e_meas - en) / en, r.tc_meas);
-    EXPECT_LT(std::fabs(r.e_meas - en) / en, 1e-3);
+    EXPECT_LT(std::fabs(r.e_meas - en) / en, 2e-3);
     EXPECT_LT(std::fabs(r.tc_meas - 1.0), 1e-3);
   }
 }
 
 TEST(ContactNormal, PkdgravPredictorErrorIsLarger) {
-  // pkdgrav's predictor v_{n+1/2} + (h/2) a_n: measured 1.9e-3 (e_n = 0.2), 1.4e-3 (0.55),
-  // 4.9e-4 (0.8) at 50 steps; below 1e-3 from 70 steps.
+  // pkdgrav's predictor v_{n+1/2} + (h/2) a_n (edges on): measured 4.1e-3 (e_n = 0.2), 1.2e-3
+  // (0.55), 4.2e-4 (0.8) at 50 steps, 2.1e-3, 6.3e-4, 2.2e-4 at 70 (second order: x (50/70)^2).
   for (double en : {0.2, 0.55, 0.8}) {
     const ImpactResult r50 = head_on(en, 50, true, false), r70 = head_on(en, 70, true, false);
     std::printf("pkdgrav predictor e_n = %.2f: rel err %.2e (50 steps), %.2e (70 steps)\n", en,
                 std::fabs(r50.e_meas - en) / en, std::fabs(r70.e_meas - en) / en);
-    EXPECT_LT(std::fabs(r50.e_meas - en) / en, 2e-3);
-    EXPECT_LT(std::fabs(r70.e_meas - en) / en, 1e-3);
+    EXPECT_LT(std::fabs(r50.e_meas - en) / en, 5e-3);
+    EXPECT_LT(std::fabs(r70.e_meas - en) / en, 2.5e-3);
+    EXPECT_GT(std::fabs(r50.e_meas - en) / std::fabs(r70.e_meas - en), 1.6);
     EXPECT_GT(std::fabs(r50.e_meas - en), std::fabs(head_on(en, 50).e_meas - en));
   }
 }

@@ -139,8 +139,8 @@ TEST(Multirate, HeavyPairRestitutionAtItsOwnLevel) {
   // 4.5x longer) steps at level 2, 4 h = tau_c/33.75 (non-integer steps per contact). Its
   // rebound must equal single-rate stepping of the heavy pair alone at dt = 4 h (same step
   // grid: level 2 starts at a multiple of 4 h) to round-off (1e-9: the drift is summed in steps
-  // of h instead of 4 h), and e_n to the contact law's own error at 33.75 steps (first order in
-  // dt from the onset/release within a step, 6.7e-3 at 50.5 steps per the contact tests: < 1.5e-2).
+  // of h instead of 4 h), and e_n to the contact law's own error at 33.75 steps (second order with
+  // the edge impulses, contact_law.hpp: measured 5.6e-4; 9.4e-3 before them: < 2e-3).
   ContactParams p;
   p.parts = kPartDamping;
   p.kn = 1e5;
@@ -171,7 +171,7 @@ TEST(Multirate, HeavyPairRestitutionAtItsOwnLevel) {
               std::fabs(e - 0.55) / 0.55);
   EXPECT_GT(used, 0.0);
   EXPECT_NEAR(e, e1, 1e-9);
-  EXPECT_LT(std::fabs(e - 0.55) / 0.55, 1.5e-2);
+  EXPECT_LT(std::fabs(e - 0.55) / 0.55, 2e-3);
 }
 
 TEST(Multirate, MedianAnchorGivesTheTypicalPairExactlyNStepsOnItsLevel) {

@@ -167,6 +167,10 @@ TEST(Stability, ExtrapolatedPredictorNeedsResolvedContacts) {
     p.parts = kPartDamping;
     p.kn = 1e3;
     p.en = 0.2;
+    // the mode analysed is that of a lasting contact: with the edge impulses (contact_law.hpp)
+    // the growing oscillation lifts the sphere off the wall, and the release/onset impulses
+    // then happen to damp it (it settles to 1.4e-2 at 4 steps); without them it runs away
+    p.resolve_edges = false;
     Spheres sp;
     sp.push(0, Vec3(0, 0, s), Vec3::Zero(), Vec3::Zero(), m, s);
     SimConfig c;

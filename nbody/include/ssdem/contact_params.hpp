@@ -27,6 +27,7 @@ namespace ssdem {
 struct ContactParams : TableInfo::Params {
   unsigned parts = 0;  ///< OR of the parts' flags (the linear normal law has none)
   double beta = 0.5;   ///< shape parameter of the rolling/twisting contact size a = beta Rbar
+  bool resolve_edges = true;  ///< edge impulses at contact onset and release (contact_law.hpp)
 
   bool has(unsigned flag) const { return (parts & flag) != 0u; }
   double kt() const { return kt_over_kn * kn; }

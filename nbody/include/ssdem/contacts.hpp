@@ -193,6 +193,9 @@ class ContactSystem {
   // contact, so the per-sphere sums may add every listed pair's record without a test
   std::vector<PairForces> pres_;
   std::vector<double> pD_;  // energy dissipated over the pair's last step
+  // per pair: its record holds a released pair's edge force (contact_law.hpp, "Contact edges"),
+  // summed like a contact's and zeroed at the pair's next evaluation
+  std::vector<std::uint8_t> pedge_;
   // CSR of pairs where the sphere is the j member (ascending i)
   std::vector<std::uint32_t> jrow_, jpair_;
   // CSR of pairs where the sphere is the i member: contiguous range

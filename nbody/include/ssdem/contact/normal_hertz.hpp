@@ -87,6 +87,20 @@ struct HertzNormal : PartBase {
   }
   template <class C, class R>
   static R ct(const C& c, const PairCtx<R>& k) { return c.alpha_t * lsqrt(k.mu * k.kt); }
+  /// Edge impulses (contact_law.hpp, "Contact edges"), with x = w t after the edge, y = sig + h/2,
+  /// K = (4/3) E* sqrt(R*) and C_n = C_0 x^{1/4}, C_0 = alpha_n sqrt(mu K):
+  ///   spring  K w^{3/2} [y^{5/2} / (5/2) - sig^{3/2} h] / h              (repulsive)
+  ///   dashpot C_0 w^{1/4} [y^{5/4} / (5/4) - sig^{1/4} h] / h            (times u_n)
+  template <class C, class R>
+  static R edge_spring(const C& c, const PairCtx<R>& k, const R& w, const R& sig) {
+    const R K = (4.0 / 3.0) * c.Estar * lsqrt(k.Rbar), y = sig + 0.5 * k.h;
+    return K * w * lsqrt(w) * (0.4 * y * y * lsqrt(y) - sig * lsqrt(sig) * k.h) / k.h;
+  }
+  template <class C, class R>
+  static R edge_dashpot(const C& c, const PairCtx<R>& k, const R& w, const R& sig) {
+    const R C0 = c.alpha_n * lsqrt(k.mu * (4.0 / 3.0) * c.Estar * lsqrt(k.Rbar)), y = sig + 0.5 * k.h;
+    return C0 * lsqrt(lsqrt(w)) * (0.8 * y * lsqrt(lsqrt(y)) - lsqrt(lsqrt(sig)) * k.h) / k.h;
+  }
   // --- hooks ---
   template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
   static void normal_phase(const C& c, PairCtx<R>& k, const H&) {

@@ -46,6 +46,18 @@ struct LinearNormal : PartBase {
   static R cn(const C& c, const PairCtx<R>& k) { return c.cn_pre * lsqrt(k.mu); }
   template <class C, class R>
   static R ct(const C& c, const PairCtx<R>& k) { return c.ct_pre * lsqrt(k.mu); }
+  /// Edge impulses (contact_law.hpp, "Contact edges"): with x = w t after the edge,
+  /// spring  k_n w [(sig + h/2)^2 / 2 - sig h] / h = k_n w (sig - h/2)^2 / (2h)  (repulsive),
+  /// dashpot C_n [(sig + h/2) - h] / h = C_n (sig/h - 1/2)                       (times u_n).
+  template <class C, class R>
+  static R edge_spring(const C& c, const PairCtx<R>& k, const R& w, const R& sig) {
+    const R e = sig - 0.5 * k.h;
+    return c.kn * w * e * e / (2.0 * k.h);
+  }
+  template <class C, class R>
+  static R edge_dashpot(const C& c, const PairCtx<R>& k, const R& /*w*/, const R& sig) {
+    return cn(c, k) * (sig / k.h - 0.5);
+  }
   // --- hooks ---
   template <unsigned PARTS, bool WALL, class N, class C, class R, class H>
   static void normal_phase(const C& c, PairCtx<R>& k, const H&) {
