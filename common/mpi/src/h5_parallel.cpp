@@ -59,7 +59,15 @@ ParallelFile::ParallelFile(Comm& comm, const std::string& final_path, std::uintm
     throw IoError(final_path + ": cannot set up collective transfers");
 }
 
-ParallelFile::~ParallelFile() = default;  // an uncommitted file: closed, and rank 0 removes it
+ParallelFile::~ParallelFile() {
+  // Not committed: an exception on this rank (a failure every rank sees goes through
+  // commit(false)). Closing is collective, and the other ranks may be inside a collective write
+  // or the commit, where they would wait for this rank for ever, and it for them. So the file is
+  // left open on more than one rank: the exception reaches the tool's main, which aborts every
+  // rank with its exit code (MPI_Abort), and rank 0, if it is unwinding too, removes the
+  // temporary name (temp_). One rank alone closes it as the serial writers do.
+  if (file_.valid() && comm_.size > 1) (void)file_.release();
+}
 
 void ParallelFile::commit(bool ok) {
   const hid_t f = file_.id();

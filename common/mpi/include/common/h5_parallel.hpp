@@ -19,6 +19,14 @@
 /// Every rank makes the same calls in the same order (HDF5's metadata operations are
 /// collective); dataset rows go through h5::write_dataset_rows with rows() (collective MPI-IO
 /// transfers).
+///
+/// An exception between creation and commit (on one rank: an allocation, a logic error) must not
+/// close the file: the close is collective and would wait for ranks that are inside a collective
+/// write (measured: the job hung until killed). The destructor of an uncommitted file on more
+/// than one rank leaves it open, and the tools' mains abort every rank with the exit code
+/// (tests common_mpi_unwind_one/all: exit 4 within a second instead of a hang, the earlier file
+/// kept; when only ranks other than 0 failed, rank 0 may be killed inside the write and leave its
+/// temporary file beside the kept one).
 #pragma once
 #include <cstdint>
 #include <memory>
