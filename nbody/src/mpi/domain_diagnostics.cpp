@@ -19,12 +19,17 @@ Diagnostics DomainSim::diagnostics() {
     const std::vector<Vec3> keep = ag_;
     const std::int64_t gs = grav_step_;
     const bool want = want_pot_;
+    const double gb = stats_.bytes_gravity;
     want_pot_ = true;
     compute_gravity();
     want_pot_ = want;
     ag_ = keep;
     grav_step_ = gs;
     --times_.gravity_evals;
+    // the row's own gathering: counted as "other" traffic, not as the integration's gravity
+    stats_.bytes_other += stats_.bytes_gravity - gb;
+    stats_.bytes_gravity = gb;
+    --stats_.gravity_gathers;
   }
   DiagnosticSums sums;
   for (std::uint32_t i : own_)

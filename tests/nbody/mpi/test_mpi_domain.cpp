@@ -231,6 +231,27 @@ TEST(MpiDomain, SelfGravitatingPileTreeAdaptiveCadenceEqualsOneRank) {
   EXPECT_GT(max_ghosts, 0u);
 }
 
+TEST(MpiDomain, SeriesRowPotentialIsNotCountedAsIntegrationGravity) {
+  // A row between gravity evaluations makes one of its own (the potential at the current
+  // positions): its traffic is "other", and the integration's gravity counters stay as they were.
+  const Spheres sp = pile();
+  SimConfig cfg = config(sp, std::sqrt(2 * total_mass(sp) / 0.75), true, false);
+  cfg.gravity_every = 4;
+  mpi::DomainSim d(world(), sp, cfg);
+  for (int k = 0; k < 6; ++k) d.step();  // step 6: not a gravity step (every 4)
+  const mpi::DomainStats before = d.stats();
+  const std::int64_t evals = d.times().gravity_evals;
+  (void)d.diagnostics();
+  const mpi::DomainStats& after = d.stats();
+  EXPECT_EQ(after.gravity_gathers, before.gravity_gathers);
+  EXPECT_EQ(after.bytes_gravity, before.bytes_gravity);
+  EXPECT_EQ(d.times().gravity_evals, evals);
+  if (world().size > 1) {
+    EXPECT_GT(after.bytes_other, before.bytes_other);  // the row's gathering
+  }
+  EXPECT_EQ(before.gravity_gathers, evals);  // one gather per integration evaluation
+}
+
 TEST(MpiDomain, TwoBodyReaccumulationContactsAcrossDomainsEqualOneRank) {
   // body 2 placed 0.1 sphere radius from body 1's surface, closing at 1.5 (G = 1 units)
   Spheres a = pile(0.6);

@@ -31,6 +31,10 @@ struct HistoryRecord {
   double& scal(std::string_view name);
   double scal(std::string_view name) const;
 };
+// Records move between ranks as raw bytes (MPI exchanges, the collective checkpoint's sort):
+// they must have no padding, whose bytes would be indeterminate.
+static_assert(sizeof(HistoryRecord) == 2 * sizeof(std::uint64_t) + kHistVec * sizeof(Vec3) + kHistScal * sizeof(double),
+              "HistoryRecord has padding");
 inline constexpr std::uint64_t kWallIdBase = 0xFFFFFFFF00000000ull;
 
 /// One row of a container as the kernel sees it.
