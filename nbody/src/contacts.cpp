@@ -99,6 +99,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     // is open and that was not in contact has nothing to compute (no force, no history change)
     std::uint32_t rows[kLanes];
     double hs[kLanes];
+    std::uint8_t ws[kLanes];
+    const std::uint8_t* whole = sub && !sub->whole.empty() ? sub->whole.data() : nullptr;
     int nl = 0;
 #pragma omp for schedule(static) nowait
     for (std::size_t q = 0; q < P; ++q) {
@@ -115,12 +117,13 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       }
       rows[nl] = p;
       hs[nl] = sub ? sub->hpair[q] : h0;
+      ws[nl] = whole ? whole[q] : 1;
       if (++nl == kLanes) {
-        pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, nl, on_contact);
+        pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
         nl = 0;
       }
     }
-    if (nl > 0) pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, nl, on_contact);
+    if (nl > 0) pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
 #pragma omp critical(ssdem_contact_stats)
     {
       ncont += lc;

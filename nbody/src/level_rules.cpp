@@ -310,6 +310,7 @@ void multirate_subset(const ContactSystem& cs, const std::vector<std::uint32_t>&
   for (std::size_t r = 0; r < na; ++r) off[r + 1] += off[r];
   sub.pairs.resize(off[na]);
   sub.hpair.resize(off[na]);
+  sub.whole.resize(off[na]);
 #pragma omp parallel for schedule(static) if (na >= kOmpMin)
   for (std::size_t r = 0; r < na; ++r) {
     const std::uint32_t k = active[r];
@@ -317,10 +318,12 @@ void multirate_subset(const ContactSystem& cs, const std::vector<std::uint32_t>&
     for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p, ++o) {
       sub.pairs[o] = p;
       sub.hpair[o] = hpair(p);
+      sub.whole[o] = sync[pj[p]];
     }
     for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
       if (!sync[pi[jp[q]]]) {  // else added from its i member
         sub.pairs[o] = jp[q];
+        sub.whole[o] = 0;
         sub.hpair[o++] = hpair(jp[q]);
       }
   }
@@ -339,6 +342,7 @@ void take_subset(SubsetCache& c, int tz, const ContactSystem& cs, const std::vec
     ++c.reuses;
     sub.pairs.swap(e.pairs);
     sub.hpair.swap(e.hpair);
+    sub.whole.swap(e.whole);
     return;
   }
   ++c.builds;
@@ -353,6 +357,7 @@ void keep_subset(SubsetCache& c, int tz, ContactSystem::Subset& sub) {
   SubsetCache::Entry& e = c.by_tz[static_cast<std::size_t>(tz)];
   e.pairs.swap(sub.pairs);
   e.hpair.swap(sub.hpair);
+  e.whole.swap(sub.whole);
   e.lent = false;
 }
 

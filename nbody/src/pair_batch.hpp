@@ -31,13 +31,14 @@ struct Arrays {
   std::uint8_t* edge;  ///< per pair: 1 if its record is a released pair's edge force
 };
 
-/// Evaluates the pairs rows[0..n) (n <= kLanes) with steps h[0..n); calls on_contact(p, overlap /
+/// Evaluates the pairs rows[0..n) (n <= kLanes) with steps h[0..n) and edge flags whole[0..n) (0: no
+/// edge force, ContactSystem::Subset::whole; whole = nullptr: all 1); calls on_contact(p, overlap /
 /// smaller radius) for each pair p in contact. Pairs not in contact get a zero result record
 /// (released with edges on: their edge force, and edge = 1), D = the energy their history held
 /// if they were in contact (plus the edge dashpot's; 0 otherwise), and keep their history row.
 template <unsigned PARTS, class OnContact>
-inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32_t* rows, const double* h, int n,
-                      const OnContact& on_contact) {
+inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32_t* rows, const double* h,
+                      const std::uint8_t* whole, int n, const OnContact& on_contact) {
   constexpr bool HIST = TableInfo::has_history(PARTS);
   const HistCols& cols = a.hist.cols();
   const Spheres& sp = a.sp;
@@ -56,6 +57,7 @@ inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32
   const Lanes mi = lanes_from([&](int l) { return sp.m[I[l]]; }), mj = lanes_from([&](int l) { return sp.m[J[l]]; });
   in.mu = mi * mj / (mi + mj);
   in.h = lanes_from([&](int l) { return h[l < n ? l : 0]; });
+  if (whole) in.edge = lanes_from([&](int l) { return whole[l < n ? l : 0] ? 1.0 : 0.0; });
   in.vp = v3_from([&](int l) -> const Vec3& { return a.vpred[I[l]]; });
   in.vn = v3_from([&](int l) -> const Vec3& { return a.vpred[J[l]]; });
   in.wp = v3_from([&](int l) -> const Vec3& { return a.wpred[I[l]]; });
@@ -79,7 +81,7 @@ inline void eval_pack(const ContactCoeffs& c, const Arrays& a, const std::uint32
     const std::uint32_t p = prow[l];
     a.hist.active[p] = con[l] ? 1 : 0;
     a.D[p] = o.diss[l];
-    const bool edge = !con[l] && act[l] && c.edges;
+    const bool edge = !con[l] && act[l] && c.edges && (!whole || whole[l]);
     a.edge[p] = edge ? 1 : 0;
     if (con[l] || edge) {
       PairForces& r = a.out[p];

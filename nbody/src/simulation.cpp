@@ -36,7 +36,9 @@ Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(st
   alpha_.assign(n, Vec3::Zero());
   ag_.assign(n, Vec3::Zero());
   block_ = cfg_.adaptive_gravity ? 1 : cfg_.gravity_every;
+  if (contacts_) contacts_->set_edges(false);  // the initial overlaps are not onsets
   compute_forces(true);
+  if (contacts_) contacts_->set_edges(true);
   check_state();
 }
 

@@ -150,3 +150,54 @@ TEST(ContactEdges, HertzRestitutionErrorIsMuchSmaller) {
     EXPECT_LT(on, 0.1 * off);
   }
 }
+
+TEST(ContactEdges, ReleasedPairForceReachesBothMembersOrNeither) {
+  // A pair in contact separates; at the next evaluation its edge force is its record, added to
+  // both spheres (equal and opposite). In a multi-rate subset that gathers only one member (a
+  // separating pair whose flag is reset, Subset::whole = 0) there is no edge force: it would reach
+  // one sphere only. The record is spent at the pair's next evaluation (list not rebuilt).
+  const double s = 0.01, m = 2500 * 4.0 / 3.0 * M_PI * s * s * s, h = 1e-5;
+  ContactParams p;
+  p.parts = kPartDamping;
+  p.kn = 1e5;
+  p.en = 0.55;
+  const std::vector<Vec3> v = {Vec3(-1, 0, 0), Vec3(1, 0, 0)}, w(2, Vec3::Zero());
+  for (int whole : {1, 0}) {
+    Spheres sp;
+    sp.push(0, Vec3(-s + 1e-5, 0, 0), v[0], Vec3::Zero(), m, s);  // overlap 2e-5: in contact
+    sp.push(1, Vec3(s - 1e-5, 0, 0), v[1], Vec3::Zero(), m, s);
+    ContactSystem cs(p, {}, 0.5 * s);
+    cs.update_neighbors(sp, true);
+    std::vector<Vec3> F, T;
+    cs.compute(sp, v, w, h, F, T);
+    ASSERT_NE(F[1].x(), 0.0);  // in contact (spring minus the separating dashpot)
+    sp.x[0].x() -= 2e-5;       // now a gap of 2e-5, separating at 2 m/s: released 1e-5 s ago
+    sp.x[1].x() += 2e-5;
+    ContactSystem::Subset sub;
+    sub.pairs = {0};
+    sub.hpair = {h};
+    sub.whole = {static_cast<std::uint8_t>(whole)};
+    sub.spheres = whole ? std::vector<std::uint32_t>{0, 1} : std::vector<std::uint32_t>{0};
+    sub.hsphere.assign(sub.spheres.size(), h);
+    F.assign(2, Vec3::Zero());
+    cs.compute(sp, v, w, sub, F, T);
+    if (whole) {
+      // released at sigma = h - q = 0 (q = gap / w = h): the previous kick took the attractive
+      // dashpot for h/2 too long, so the dashpot part returns C u_n / 2 (repulsive), and the
+      // spring's k w (h/2)^2/(2h) is repulsive too
+      EXPECT_NE(F[0].x(), 0.0);
+      EXPECT_EQ(F[0].x(), -F[1].x());
+      const double C = ContactParams::damping_prefactor(p.kn, p.en) * std::sqrt(0.5 * m), un = 2.0;
+      const double expect_on_1 = 0.5 * C * un + p.kn * un * (0.5 * h) * (0.5 * h) / (2.0 * h);
+      EXPECT_NEAR(F[1].x(), expect_on_1, 1e-9 * std::fabs(expect_on_1));
+    } else {
+      EXPECT_EQ(F[0], Vec3::Zero());
+    }
+    // next evaluation: the pair's gap is open and it is no longer in contact: nothing left
+    sp.x[0].x() -= 2e-5;
+    sp.x[1].x() += 2e-5;
+    cs.compute(sp, v, w, h, F, T);
+    EXPECT_EQ(F[0], Vec3::Zero());
+    EXPECT_EQ(F[1], Vec3::Zero());
+  }
+}

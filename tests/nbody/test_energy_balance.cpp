@@ -159,7 +159,7 @@ TEST(EnergyBalance, SlidingFrictionLossMatchesTheRigidBodyLimit) {
 TEST(EnergyBalance, SettlingHeapClosesAndConverges) {
   // 343 spheres fall onto a floor. With the dashpots and the tangential slider (coulomb) the
   // balance error is below 1e-3 of D and shrinks with the step, though not monotonically (signed
-  // sums of onset, stick-slip and release errors; measured -1.7e-4, 2.4e-4, 8.8e-5 at 20, 40, 80
+  // sums of onset, stick-slip and release errors; measured 1.2e-4, 2.1e-4, 9.4e-5 at 20, 40, 80
   // steps per contact with the edge impulses, 6.4e-4, 2.1e-4, 1.4e-4 without). With every part
   // (rolling and twisting too) it is below 1e-2 of D; the rolling part leaves ~3e-3 that does not
   // shrink with the step (its v_roll carries the lever-arm term, so its moment's work on the

@@ -52,6 +52,13 @@
 /// k_n w (sig - h/2)^2/(2h), dashpot C_n u_n (sig/h - 1/2): the impulses of a contact are then
 /// exact for a linear approach and release, and the e_n error is second order (measured in
 /// tests/nbody/test_contact_edges.cpp).
+/// No edge force where the linear history does not apply: a pair not approaching at its onset or
+/// not separating at its release (w <= 0), the first evaluation of a run (its overlaps are not
+/// onsets: ContactSystem::set_edges), and a multi-rate pair evaluated with one member only
+/// (ContactSystem::Subset::whole: the force would reach one sphere). Multi-rate: the owed impulse
+/// is divided by the pair's step h; if a member changes level at that very step, its kick window
+/// is (h + h')/2 and the edge impulse arrives scaled by (h + h')/(2h) (between 0.75 and 1.5 for
+/// one level): the correction is then approximate, still of second order.
 /// The edge force acts along n (no torque); its dashpot part counts as dissipated (cd u_n^2 h,
 /// negative when it returns an earlier kick's excess). A released pair's edge force is its record
 /// for this step (pair_batch.hpp). The tangential spring and dashpot and the cohesion part keep
@@ -59,7 +66,7 @@
 /// edge force, consistently with them: with the limit raised by the edge force while the
 /// tangential spring is not, the energy balance of a settling heap stopped converging
 /// (error/D -4.6e-4, -3.0e-4, -1.8e-4 at 40, 80, 160 steps per contact; with the step's F_N
-/// 2.4e-4, 8.8e-5, as without edges: test_nbody_energy_balance).
+/// 2.1e-4, 9.4e-5 at 40, 80, as without edges: test_nbody_energy_balance).
 /// Per-pair step: h is an argument of the kernel (multi-rate: each pair its own level's step).
 /// Lanes. The kernel is written once in lane arithmetic (contact/lanes.hpp): contact_lanes<R>
 /// evaluates one pair (R = double; contact_pair() is its Eigen-facing wrapper, used for walls and
@@ -105,6 +112,7 @@ struct PairIn {
   V3<R> rho;
   R sp, sn, mu, h;
   V3<R> vp, vn, wp, wn, vp_half, vn_half, wp_half, wn_half;
+  R edge = splat<R>(1.0);  ///< 0: no edge force for this pair now (a multi-rate pair with one member)
 };
 /// Outputs: force on p, torques, overlap (meaningful in lanes in contact only: a pack's other
 /// lanes hold whatever they computed, except a released lane with edges on, whose F is its edge
@@ -164,11 +172,12 @@ constexpr auto transported_columns() {
 /// diss: the edge dashpot's energy over the step.
 template <unsigned PARTS, class N, class C, class R, class M>
 [[gnu::always_inline]] inline void edge_force(const C& c, const PairCtx<R>& k, const M& onset, V3<R>& F, R& diss) {
-  const R w0 = select(onset, -k.un_s, k.un_s);                       // approach / separation speed
-  const R w = select(w0 < 0.0, splat<R>(0.0), w0);
-  const R tau = select(onset, k.x, -k.x);                            // overlap / gap, >= 0
-  const auto within = mnot(tau >= w * k.h);
-  const R s = select(within, tau / select(within, w, splat<R>(1.0)), k.h);  // time since the edge
+  const R w0 = select(onset, -k.un_s, k.un_s);  // approach / separation speed
+  const auto moving = w0 > 0.0;                   // else no linear history to go by: no edge force
+  const R w = select(moving, w0, splat<R>(1.0));
+  const R tau0 = select(onset, k.x, -k.x);        // overlap / gap
+  const R tau = select(tau0 < 0.0, splat<R>(0.0), tau0);
+  const R s = lmin(tau / w, k.h);                 // time since the edge
   const R sig = select(onset, s, k.h - s);
   F = (-N::edge_spring(c, k, w, sig)) * k.n;
   diss = splat<R>(0.0);
@@ -177,6 +186,8 @@ template <unsigned PARTS, class N, class C, class R, class M>
     F = F + (cd * k.un_s) * k.n;
     diss = cd * k.un_s * k.un_s * k.h;
   }
+  F = select(moving, F, V3<R>::zero());
+  diss = select(moving, diss, splat<R>(0.0));
 }
 }  // namespace contact_kernel
 
@@ -231,8 +242,10 @@ template <unsigned PARTS, bool WALL, class R>
       out.diss = select(rel, contact_kernel::energy<PARTS, N>(ContactTable{}, c, EnergyCtx<R>{splat<R>(0.0), Rbar, WALL}, hist),
                         out.diss);
   }
-  const auto onset = mand(contact, mnot(active));
-  const bool edges = c.edges && (any(onset) || any(rel_of(active, contact)));
+  const auto eok = in.edge > 0.0;  // edges wanted for this pair (and on: c.edges)
+  const auto onset = mand(mand(contact, mnot(active)), eok);
+  const auto released = mand(rel_of(active, contact), eok);
+  const bool edges = c.edges && (any(onset) || any(released));
   if (none(contact) && !edges) return contact;
   PairCtx<R> k;
   k.d2 = d2;
@@ -270,14 +283,14 @@ template <unsigned PARTS, bool WALL, class R>
   if (edges) contact_kernel::edge_force<PARTS, N>(c, k, onset, Fedge, dedge);
   if (none(contact)) {  // released lanes (edges on): the edge force, no torque
     out.F = Fedge;
-    out.diss = select(rel_of(active, contact), out.diss + dedge, out.diss);
+    out.diss = select(released, out.diss + dedge, out.diss);
     return contact;
   }
   contact_kernel::normal_phase<PARTS, WALL, N>(ContactTable{}, c, k, hist);
   k.FNmag = lsqrt(k.FN.squaredNorm());
   if (edges) {  // after |F_N|: the friction limits see the step's normal force (see the file comment)
-    k.FN = k.FN + select(onset, Fedge, V3<R>::zero());
-    k.diss = k.diss + select(onset, dedge, splat<R>(0.0));
+    k.FN = select(onset, k.FN + Fedge, k.FN);
+    k.diss = select(onset, k.diss + dedge, k.diss);
   }
   k.F = k.FN;
   k.Tp = k.Tn = V3<R>::zero();
@@ -315,11 +328,10 @@ template <unsigned PARTS, bool WALL, class R>
   out.Tn = k.Tn;
   out.overlap = k.x;
   if (edges) {
-    const auto rel = rel_of(active, contact);
-    out.F = select(rel, Fedge, out.F);
-    out.Tp = select(rel, V3<R>::zero(), out.Tp);
-    out.Tn = select(rel, V3<R>::zero(), out.Tn);
-    out.diss = select(rel, out.diss + dedge, out.diss);
+    out.F = select(released, Fedge, out.F);
+    out.Tp = select(released, V3<R>::zero(), out.Tp);
+    out.Tn = select(released, V3<R>::zero(), out.Tn);
+    out.diss = select(released, out.diss + dedge, out.diss);
   }
   out.diss = select(contact, k.diss, out.diss);
   return contact;

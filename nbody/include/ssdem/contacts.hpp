@@ -111,11 +111,18 @@ class ContactSystem {
   /// The pairs and spheres of one multi-rate substep (multirate.hpp): listed pairs (indices into
   /// the pair list, ascending) evaluated with their own step hpair, and the spheres whose F and T
   /// are gathered (ascending; wall contacts with hsphere). Every pair of a listed sphere that is
-  /// in contact must be in `pairs` (the multi-rate level rule guarantees it).
+  /// in contact must be in `pairs` (the multi-rate level rule guarantees it). `whole` (per listed
+  /// pair; empty = all 1): 1 if both members are gathered now; a pair with one member only (a
+  /// separating pair whose flag is reset) gets no edge force (contact_law.hpp), which would reach
+  /// one member only.
   struct Subset {
     std::vector<std::uint32_t> pairs, spheres;
     std::vector<double> hpair, hsphere;
+    std::vector<std::uint8_t> whole;
   };
+  /// Edge impulses on or off (contact.resolve_edges; off for the first evaluation of a run, whose
+  /// overlaps are not onsets).
+  void set_edges(bool on) { coeffs_.edges = on && params_.resolve_edges; }
   /// compute() restricted to a Subset: F and T are written for its spheres only.
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, const Subset& sub, std::vector<Vec3>& F,

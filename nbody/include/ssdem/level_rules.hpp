@@ -117,6 +117,7 @@ struct SubsetCache {
     std::vector<std::int64_t> steps;
     std::vector<std::uint32_t> pairs;
     std::vector<double> hpair;
+    std::vector<std::uint8_t> whole;
     bool lent = false;  ///< pairs/hpair are in the caller's subset (take_subset without keep_subset yet)
   };
   std::vector<Entry> by_tz;

@@ -75,7 +75,9 @@ DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbal
   st.ag.assign(n, Vec3::Zero());
   block_ = cfg_.adaptive_gravity ? 1 : cfg_.gravity_every;
   distribute(st);
+  if (contacts_) contacts_->set_edges(false);  // the initial overlaps are not onsets
   compute_forces(true);
+  if (contacts_) contacts_->set_edges(true);
   check_state();
 }
 

@@ -26,7 +26,9 @@
 /// than one rank leaves it open, and the tools' mains abort every rank with the exit code
 /// (tests common_mpi_unwind_one/all: exit 4 within a second instead of a hang, the earlier file
 /// kept; when only ranks other than 0 failed, rank 0 may be killed inside the write and leave its
-/// temporary file beside the kept one).
+/// temporary file beside the kept one). So a caller that catches an exception from inside a
+/// ParallelFile's life must abort the job, not go on to MPI_Finalize (HDF5's shutdown would then
+/// close the file collectively); failures every rank sees go through commit(false).
 #pragma once
 #include <cstdint>
 #include <memory>
