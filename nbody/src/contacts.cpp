@@ -182,15 +182,9 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         const Plane& pl = walls_[w];
         double dist = (sp.x[k] - pl.point).dot(pl.normal);
         const std::size_t s = k * nw + w;
-        if (dist >= sp.s[k] && !(wh_.active[s] && coeffs_.edges)) {
-          if constexpr (TableInfo::has_history(PARTS)) {  // released: the history's energy is lost
-            if (wh_.active[s]) dk += contact_elastic_energy<PARTS>(coeffs_, 0.0, sp.s[k], wh_.row(s), true);
-          }
-          wh_.active[s] = 0;
-          continue;
-        }
-        // (in contact, or released now with edges on: the kernel gives the edge force and the
-        // history's energy as dissipated)
+        if (dist >= sp.s[k] && !wh_.active[s]) continue;
+        // in contact, or released now: the kernel gives the released contact's history energy as
+        // dissipated and, with edges on, its edge force
         dist = std::max(dist, 1e-9 * sp.s[k]);
         bool act = wh_.active[s];
         PairResult res;
