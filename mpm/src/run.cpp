@@ -20,27 +20,11 @@
 #include "mpm/checkpoint.hpp"
 #include "mpm/memory_bounds.hpp"
 #include "mpm/output.hpp"
+#include "mpm/run_directory.hpp"
 #include "mpm/scene_setup.hpp"
 
 namespace mpmfrag {
 namespace {
-
-std::string snap_name(const RunConfig& r, const std::string& tag, std::int64_t step) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "_%s%06lld.h5", tag.c_str(), static_cast<long long>(step));
-  return (std::filesystem::path(r.out_dir) / (r.prefix + buf)).string();
-}
-
-/// The step of a snapshot file `<prefix>_<digits>.h5` / `.xmf`, or -1.
-std::int64_t snap_step(const std::string& prefix, const std::string& n) {
-  const std::string p = prefix + "_";
-  if (n.rfind(p, 0) != 0) return -1;
-  const std::size_t dot = n.rfind('.');
-  if (dot == std::string::npos || dot == p.size() || (n.substr(dot) != ".h5" && n.substr(dot) != ".xmf")) return -1;
-  const std::string digits = n.substr(p.size(), dot - p.size());
-  if (digits.size() > 15 || digits.find_first_not_of("0123456789") != std::string::npos) return -1;
-  return std::stoll(digits);
-}
 
 // output.snapshot_interval stays in the run identity: snapshot times cut the time steps.
 const std::vector<std::string> kRestartFree = {"time.end",           "time.max_steps",         "output.directory",
@@ -61,14 +45,8 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
   // when the run completes (common/run_dir.hpp): an interrupted or failed run leaves the
   // previous run's files as they were. rc.out_dir is the staging directory below. A restart
   // continues in the staging directory of the interrupted run whose checkpoint it reads.
-  const std::string prefix = st.run.prefix + "_";
-  common::RunDirectory rd(
-      st.run.out_dir, "mpm-frag",
-      [&](const std::string& n) {
-        return n.rfind(prefix, 0) == 0 && (n.ends_with(".h5") || n.ends_with(".xmf") || n.ends_with(".csv") ||
-                                           n.ends_with(".partial"));
-      },
-      restart.empty() ? std::string() : common::RunDirectory::staging_of(st.run.out_dir, restart));
+  const std::unique_ptr<common::RunDirectory> rdp = open_run_directory(st.run, restart);
+  common::RunDirectory& rd = *rdp;
   RunConfig rc = st.run;
   rc.out_dir = rd.staging();
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
@@ -84,14 +62,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
                                ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
     apply_materials(*ck, st.materials, restart);
     st.particles = std::move(ck->particles);
-    if (common::RunDirectory::staging_of(st.run.out_dir, restart).empty()) {
-      // continuing a published run: its snapshots up to the checkpoint become part of this one
-      for (const auto& e : std::filesystem::directory_iterator(st.run.out_dir)) {
-        const std::string n = e.path().filename().string();
-        const std::int64_t s = snap_step(rc.prefix, n);
-        if (s >= 0 && s <= ck->solver.step) rd.carry(n);
-      }
-    }
+    carry_snapshots(rd, st.run, restart, ck->solver.step);  // a published run's snapshots up to the checkpoint
   }
 
   const std::size_t n = st.particles.size();

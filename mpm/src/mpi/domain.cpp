@@ -165,6 +165,14 @@ void DomainSolver::step(double dt) {
   stats_.halo_bytes += halo_->bytes_sent - before;
 }
 
+void DomainSolver::save_backup() {
+  backup_.particles = solver_->particles();
+  backup_.materials = solver_->materials();
+  backup_.time = solver_->time();
+  backup_.step = solver_->step_count();
+  backup_.valid = true;
+}
+
 Diagnostics DomainSolver::diagnostics() {
   const Diagnostics d = solver_->diagnostics();
   const double v[17] = {d.mass, d.momentum[0], d.momentum[1], d.momentum[2], d.angular_momentum[0],

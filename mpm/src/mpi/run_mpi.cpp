@@ -1,21 +1,24 @@
 /// @file run_mpi.cpp
 /// mpm-frag time loop on MPI ranks (run_mpi.hpp; no physics here): dt = the global stable step
-/// cut at snapshot times, DomainSolver steps, series rows from rank 0, snapshots written by every
-/// rank together (snapshot_mpi.hpp), checkpoints
-/// (periodic, at the end, on SIGTERM/SIGINT) and --restart (checkpoint_mpi.hpp).
+/// cut at snapshot times, DomainSolver steps, series rows and progress from rank 0, snapshots
+/// written by every rank together (snapshot_mpi.hpp), checkpoints (periodic, at the end, on
+/// SIGTERM/SIGINT) and --restart (checkpoint_mpi.hpp), the run directory held by rank 0
+/// (run_directory.hpp: locked, staged, published when the run completes) and the last good
+/// state saved by every rank together on a failure.
 #include "mpm/mpi/run_mpi.hpp"
 
 #include <omp.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
-#include <cstdio>
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <optional>
 #include <string>
 
 #include "common/agreed.hpp"
+#include "common/log.hpp"
 #include "common/run_identity.hpp"
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
@@ -24,6 +27,7 @@
 #include "mpm/mpi/domain.hpp"
 #include "mpm/mpi/snapshot_mpi.hpp"
 #include "mpm/output.hpp"
+#include "mpm/run_directory.hpp"
 #include "mpm/scene_setup.hpp"
 
 namespace mpmfrag::mpi {
@@ -35,13 +39,22 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   if (rank != 0) spdlog::set_level(spdlog::level::warn);
   check_memory(scene);
   Setup st = build_setup(scene);
-  const RunConfig& rc = st.run;
+  Comm comm(MPI_COMM_WORLD);
+  // Rank 0 locks output.directory and every rank writes into its staging directory, published
+  // when the run completes (run_directory.hpp): a failed or interrupted run leaves the previous
+  // run's files as they were; a restart continues in the staging directory of the interrupted
+  // run whose checkpoint it reads.
+  std::unique_ptr<common::RunDirectory> run_dir;
+  common::mpi::agreed(comm, [&] {
+    if (rank == 0) run_dir = open_run_directory(st.run, restart);
+  });
+  RunConfig rc = st.run;
+  rc.out_dir = comm.bcast(run_dir ? run_dir->staging() : std::string());
   if (rc.threads > 0) omp_set_num_threads(rc.threads);
   // identity of this run, recorded in its checkpoints (the serial driver's: any rank count)
   const common::RunIdentity ident = common::run_identity(scene, restart_free_keys(), {});
   if (rank == 0) log_bodies(st.bodies);
   std::unique_ptr<DomainSolver> domp;
-  Comm comm(MPI_COMM_WORLD);
   DriverState drv;
   if (!restart.empty()) {
     RestartData rd = read_checkpoint_mpi(comm, restart, ident);  // each rank its part of the rows
@@ -50,6 +63,9 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, rd.layout);
     resume(*domp, rd);
     drv = std::move(rd.ck.driver);
+    common::mpi::agreed(comm, [&] {  // a published run's snapshots up to the checkpoint
+      if (run_dir) carry_snapshots(*run_dir, st.run, restart, domp->step_count());
+    });
     if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
     spdlog::info("restarted from {} ({} ranks) at step {} (t = {:.6g} s)", restart,
                  rd.layout.cut.empty() ? std::string("one rank") : std::to_string(rd.layout.cut.size() - 1),
@@ -69,18 +85,35 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   spdlog::info("mpm-frag (MPI): {} particles on {} ranks x {} threads, grid {}x{}x{} nodes cut along axis {} into slabs at planes {}",
                ntot, size, omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
                "xyz"[sl.axis], cuts);
-  if (rank == 0) std::filesystem::create_directories(rc.out_dir);
-  auto snap_path = [&](std::int64_t step) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "_%06lld.h5", static_cast<long long>(step));
-    return (std::filesystem::path(rc.out_dir) / (rc.prefix + buf)).string();
-  };
   const std::string ckpt_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_checkpoint.h5")).string();
   RunSummary sum;
   sum.particles = static_cast<std::size_t>(ntot);
+  // the last good state, `<prefix>_failed_<step>.h5`: the current state if a failure left it
+  // intact, else the ranks' backups of the same earlier step ("" if there is none yet)
+  auto write_failed = [&](bool intact) {
+    if (intact) {
+      const std::string path = snap_name(rc, "failed_", dom.step_count());
+      write_snapshot_mpi(comm, dom.local().particles(), dom.local().materials(), st.grid, dom.time(),
+                         dom.step_count(), path, prov);
+      return path;
+    }
+    if (!comm.all(dom.backup().valid)) return std::string();
+    const Backup& b = dom.backup();
+    const std::string path = snap_name(rc, "failed_", b.step);
+    write_snapshot_mpi(comm, b.particles, b.materials, st.grid, b.time, b.step, path, prov);
+    return path;
+  };
   auto write_snap = [&]() {  // collective parallel HDF5: no rank holds every particle
-    const std::string path = snap_path(dom.step_count());
-    write_snapshot_mpi(dom, st.grid, path, prov);
+    const std::string path = snap_name(rc, "", dom.step_count());
+    try {
+      write_snapshot_mpi(comm, dom.local().particles(), dom.local().materials(), st.grid, dom.time(),
+                         dom.step_count(), path, prov);
+    } catch (common::NumericalError& e) {  // a value that is not finite (every rank): save the backup
+      const std::string saved = write_failed(false);
+      if (rank == 0) spdlog::error("{}; last good state saved to {}", e.what(), saved.empty() ? "(none)" : saved);
+      e.set_saved_state(saved);
+      throw;
+    }
     sum.last_snapshot = path;
   };
   // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record gathered
@@ -119,9 +152,12 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     drv.next_snapshot = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
     drv.first_dt = dom.stable_dt();
     drv.min_dt = 1e300;
+    spdlog::info("first dt = {:.4g} s ({} limit)", drv.first_dt, dom.local().dt_capped() ? "time.dt_max" : "CFL");
   }
   sum.initial = drv.initial;
   sum.first_dt = drv.first_dt;
+  const double E0 = sum.initial.total();
+  common::Progress progress("mpm-frag", dom.time(), rc.t_end, rc.progress_interval);
   const std::int64_t ckpt_every = scene.integer("output.checkpoint_every");
   const double ckpt_wall = scene.real("output.checkpoint_wall");
   double last_ckpt_wall = 0;
@@ -129,7 +165,11 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   double dt = 0;
   try {
     while (dom.time() < rc.t_end * (1 - 1e-12)) {
-      if (rc.max_steps > 0 && dom.step_count() >= rc.max_steps) break;
+      if (rc.max_steps > 0 && dom.step_count() >= rc.max_steps) {
+        if (rank == 0) spdlog::warn("stopping at time.max_steps = {} (t = {:.6g} s < end {:.6g} s)", rc.max_steps, dom.time(), rc.t_end);
+        break;
+      }
+      if (dom.step_count() % rc.backup_every == 0) dom.save_backup();
       dt = dom.stable_dt();
       const double target = std::min(drv.next_snapshot, rc.t_end);
       if (dom.time() + dt > target) dt = target - dom.time();
@@ -142,6 +182,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       if (dom.step_count() % rc.series_every == 0 || at_end || at_snap) {
         const Diagnostics d = dom.diagnostics();
         if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
+        if (rank == 0) progress.update(dom.step_count(), dom.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
       }
       if (at_snap) {
         if (!at_end) {  // the final snapshot follows the loop
@@ -171,9 +212,15 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       }
     }
   } catch (const SolverFailure& f) {  // thrown on every rank (collective failure flags)
+    const std::string path = write_failed(comm.all(f.state_intact));
     write_outflow();
-    if (series) series->commit();
-    throw common::NumericalError(std::string(f.what()), "");
+    const Diagnostics d = dom.diagnostics();
+    if (series) {
+      series->write(dom.step_count(), dom.time(), dt, d, {});
+      series->commit();  // the series up to the failure, in the staging directory
+    }
+    if (rank == 0) spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
+    throw common::NumericalError(std::string(f.what()), path);
   }
   sum.min_dt = drv.min_dt;
   sum.max_dt = drv.max_dt;
@@ -182,14 +229,22 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   write_outflow();
   checkpoint();
   if (series) series->commit();
-  sum.series_path = series_path;
+  common::mpi::agreed(comm, [&] {
+    if (run_dir) run_dir->publish();
+  });
+  auto published = [&](const std::string& p) {
+    return (std::filesystem::path(st.run.out_dir) / std::filesystem::path(p).filename()).string();
+  };
+  sum.last_snapshot = published(sum.last_snapshot);
+  sum.series_path = published(series_path);
+  spdlog::info("run complete: outputs published in {}", st.run.out_dir);
   sum.steps = dom.step_count();
   sum.time = dom.time();
   sum.wall_s = wall();
   const DomainStats& s = dom.stats();
   double c[4] = {s.halo_bytes, s.migrate_bytes, static_cast<double>(s.migrated), 0.0};
   MPI_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
-  const double E0 = sum.initial.total();
+  progress.update(sum.steps, sum.time, dt, E0 != 0 ? (sum.final.total() - E0) / std::fabs(E0) : 0.0, true);
   spdlog::info("done: {} steps to t = {:.6g} s in {:.2f} s wall on {} ranks x {} threads ({:.3f} us per particle-step)",
                sum.steps, sum.time, sum.wall_s, size, omp_get_max_threads(),
                sum.wall_s * 1e6 / (static_cast<double>(sum.particles) * std::max<std::int64_t>(1, sum.steps)));

@@ -9,18 +9,16 @@
 
 namespace mpmfrag::mpi {
 
-void write_snapshot_mpi(DomainSolver& dom, const common::GridInfo& grid, const std::string& path,
+void write_snapshot_mpi(Comm& comm, const ParticleSet& ps, const std::vector<MaterialSlot>& mats,
+                        const common::GridInfo& grid, double time, std::int64_t step, const std::string& path,
                         const common::Provenance& prov) {
-  const Solver& s = dom.local();
-  const ParticleSet& ps = s.particles();
-  const std::vector<MaterialSlot>& mats = s.materials();
-  const common::ParticleSnapshot local = make_snapshot(ps, mats, grid, dom.time(), dom.step_count());
+  const common::ParticleSnapshot local = make_snapshot(ps, mats, grid, time, step);
   // never Inf/NaN in an output (exit 3 on every rank, nothing written)
-  common::mpi::agreed(dom.comm(), [&] { common::check_output_particles(local, path); });
+  common::mpi::agreed(comm, [&] { common::check_output_particles(local, path); });
   std::vector<common::mpi::RowKey> keys(ps.size());
   for (std::size_t m = 0; m < mats.size(); ++m)
     for (std::size_t p = mats[m].begin; p < mats[m].end; ++p) keys[p] = {m, ps.id[p]};
-  common::mpi::write_particle_snapshot_mpi(dom.comm(), path, local, keys, prov);
+  common::mpi::write_particle_snapshot_mpi(comm, path, local, keys, prov);
 }
 
 }  // namespace mpmfrag::mpi

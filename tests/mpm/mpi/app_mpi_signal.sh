@@ -2,7 +2,8 @@
 # SIGTERM on MPI ranks end to end (label mpi): one of NP mpm-frag ranks gets SIGTERM early in a
 # long run; every rank must checkpoint after the same step and the run exit 143 (128 + SIGTERM).
 # The checkpoint (step K) continued with --restart on NP ranks to step K + 30 (time.max_steps)
-# must write a final snapshot bit-identical to an uninterrupted NP-rank run to step K + 30.
+# must write a final snapshot bit-identical to an uninterrupted NP-rank run to step K + 30. The
+# interrupted run's files stay in its staging directory; the continuation adopts it and publishes.
 # Usage: app_mpi_signal.sh <mpm-frag> <scene> <NP> <mpirun...>
 set -euo pipefail
 exe=$1 scene=$2 np=$3
@@ -16,13 +17,14 @@ common=(--scene "$scene" --quiet --set time.end=0.03 --set output.snapshot_inter
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set "output.directory=\"$w/sig\"" &
 mpirun_pid=$!
 for _ in $(seq 1 600); do  # the initial snapshot: the ranks are stepping
-  ls "$w"/sig/*_000000.h5 >/dev/null 2>&1 && break
+  ls "$w"/sig/.staging-*/*_000000.h5 >/dev/null 2>&1 && break
   sleep 0.05
 done
 signal_one_rank TERM "$mpirun_pid" || fail "no rank process under mpirun $mpirun_pid"
 rc=$mpirun_rc
 [ "$rc" -eq 143 ] || fail "exit $rc after SIGTERM, expected 143"
-ck="$(ls "$w"/sig/*_checkpoint.h5)"
+! ls "$w"/sig/*.h5 >/dev/null 2>&1 || fail "the interrupted run published files in its output directory"
+ck="$(ls "$w"/sig/.staging-*/*_checkpoint.h5)"  # the interrupted run's files stay in its staging directory
 k=$(h5dump -a /mpm_state/step "$ck" | sed -n 's/.*(0): \([0-9]*\).*/\1/p')
 [ -n "$k" ] && [ "$k" -gt 0 ] || fail "no step in $ck"
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set "output.directory=\"$w/sig\"" --set "time.max_steps=$((k + 30))" --restart "$ck"

@@ -2,12 +2,16 @@
 /// Helpers of the MPI tests of mpm-frag (test_mpm_mpi.cpp): rank queries, stepping a serial or a
 /// distributed run to a time, and the largest per-array difference between two particle sets
 /// matched by particle id (every ParticleSet array and every style state field), and the
-/// Tonge–Ramesh impact scene shared by test_mpm_mpi.cpp and test_mpm_mpi_restart.cpp.
+/// Tonge–Ramesh impact scene shared by test_mpm_mpi.cpp and test_mpm_mpi_restart.cpp, and a
+/// directory shared by the ranks.
 #pragma once
 #include <mpi.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
@@ -30,6 +34,20 @@ inline int ranks() {
   MPI_Comm_size(MPI_COMM_WORLD, &r);
   return r;
 }
+
+/// A directory shared by the ranks (rank 0 makes it), removed at the end of the test.
+struct SharedDir {
+  std::string path;
+  SharedDir() {
+    char tmpl[] = "/tmp/mpm_mpi_test.XXXXXX";
+    std::string p = rank() == 0 ? std::string(::mkdtemp(tmpl)) : std::string();
+    path = mpi::Comm(MPI_COMM_WORLD).bcast(p);
+  }
+  ~SharedDir() {
+    MPI_Barrier(MPI_COMM_WORLD);
+    if (rank() == 0) std::filesystem::remove_all(path);
+  }
+};
 
 inline void run_serial(Solver& s, double t) {
   while (s.time() < t * (1 - 1e-12)) s.step(std::min(s.stable_dt(), t - s.time()));

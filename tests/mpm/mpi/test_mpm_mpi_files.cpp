@@ -35,20 +35,6 @@ namespace {
 
 const common::Provenance kProv{"mpm-frag", "test", "test", "test", ""};
 
-/// A directory shared by the ranks (rank 0 makes it), removed at the end of the test.
-struct SharedDir {
-  std::string path;
-  SharedDir() {
-    char tmpl[] = "/tmp/mpm_mpi_files.XXXXXX";
-    std::string p = rank() == 0 ? std::string(::mkdtemp(tmpl)) : std::string();
-    path = mpi::Comm(MPI_COMM_WORLD).bcast(p);
-  }
-  ~SharedDir() {
-    MPI_Barrier(MPI_COMM_WORLD);
-    if (rank() == 0) fs::remove_all(path);
-  }
-};
-
 /// A driver state with rank 0's series text (the other ranks' is empty, as in run_mpi.cpp).
 DriverState driver(DomainSolver& dom) {
   DriverState d;

@@ -49,13 +49,14 @@
 /// agree to round-off growth (tests/mpm/mpi states the tolerances), mass to round-off and
 /// momentum to round-off of the force sums (the force on a shared node is the same sum).
 ///
-/// ## Not yet (first step)
-/// Snapshots and checkpoints are written by every rank together with collective parallel HDF5
-/// (snapshot_mpi.hpp, checkpoint_mpi.hpp: the serial layout, particles sorted by id within each
-/// material; a restart on any rank count reads each rank's part of the rows), but the outflow
-/// record is gathered to rank 0; no velocity-driven bodies; every rank builds the full scene
-/// and keeps its particles (memory of the set-up is not distributed); slabs only (ORB boxes
-/// would cut the surface/volume ratio of the halo at high rank counts).
+/// ## Not yet
+/// Snapshots, checkpoints and the last good state of a failure are written by every rank
+/// together with collective parallel HDF5 (snapshot_mpi.hpp, checkpoint_mpi.hpp: the serial
+/// layout, particles sorted by id within each material; a restart on any rank count reads each
+/// rank's part of the rows), but the outflow record is gathered to rank 0; no velocity-driven
+/// bodies; every rank builds the full scene and keeps its particles (memory of the set-up is not
+/// distributed); slabs only (ORB boxes would cut the surface/volume ratio of the halo at high
+/// rank counts).
 #pragma once
 #include <mpi.h>
 
@@ -195,6 +196,12 @@ class DomainSolver {
   Comm& comm() { return comm_; }
   double time() const { return solver_->time(); }
   std::int64_t step_count() const { return solver_->step_count(); }
+  /// Keep a copy of this rank's particles, material state, time and step: the last good state a
+  /// failure saves (run_mpi.cpp). No communication: every rank calls it at the same step, so the
+  /// copies together hold the global state of that step, whatever migrates later (the Solver's
+  /// own backup is dropped by each migration, Solver::replace_particles).
+  void save_backup();
+  const Backup& backup() const { return backup_; }
 
  private:
   /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
@@ -211,6 +218,7 @@ class DomainSolver {
   std::unique_ptr<HaloExchange> halo_;
   std::unique_ptr<Solver> solver_;
   DomainStats stats_;
+  Backup backup_;
 };
 
 }  // namespace mpmfrag::mpi

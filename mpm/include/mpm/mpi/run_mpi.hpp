@@ -1,13 +1,20 @@
 /// @file run_mpi.hpp
 /// The mpm-frag driver on more than one MPI rank (SUITE_MPI=ON; one rank runs run_mpm): the same
-/// scene, over DomainSolver (domain.hpp). First step, and says so: snapshots are gathered to rank
-/// 0 and written there by the serial writer (one file per snapshot, the serial layout, particles
-/// sorted by id within each material), series.csv rows from the global diagnostics, checkpoints
-/// (periodic, at the end, on SIGTERM/SIGINT) written the same way and --restart from a checkpoint
-/// of any rank count (checkpoint_mpi.hpp), the outflow file (every rank's record gathered); no
-/// collective parallel HDF5 yet, no last-good-state
-/// file, files written straight into output.directory (no staging directory). A failure stops
-/// every rank (exit 3); a signal stops every rank after the same step (exit 128 + signal).
+/// scene, over DomainSolver (domain.hpp), with the serial driver's outputs and failure paths.
+/// - Files: snapshots and checkpoints written by every rank together with collective parallel
+///   HDF5 (the serial layout, particles sorted by id within each material); series.csv rows and
+///   progress lines from rank 0 (global diagnostics); the outflow file from every rank's record
+///   gathered to rank 0. Checkpoints periodic, at the end and on SIGTERM/SIGINT; --restart from a
+///   checkpoint of any rank count (checkpoint_mpi.hpp).
+/// - Run directory (run_directory.hpp), held by rank 0: output.directory is locked for the run
+///   (a second run into it exits 2), every rank writes into its staging directory, and rank 0
+///   publishes it when the run completes; a failed or interrupted run leaves the previous run's
+///   files as they were, its own in the staging directory (named in the log).
+/// - Failure: a numerical failure stops every rank after the same step (exit 3). The last good
+///   state is saved first, by every rank together, as `<prefix>_failed_<step>.h5`: the current
+///   state if the failure left it intact, else the ranks' backups of the same earlier step (every
+///   run.backup_every steps, DomainSolver::save_backup); then the outflow record and the series
+///   up to the failure. A signal stops every rank after the same step (exit 128 + signal).
 #pragma once
 #include <string>
 
