@@ -92,7 +92,6 @@ ParticleSet read_set(hid_t f, const std::string& group, long long n, const std::
   });
   return ps;
 }
-h5::RowRange all_rows(long long n) { return {0, static_cast<std::size_t>(n)}; }
 long long rows_of(hid_t f, const std::string& name, const std::string& file) {
   const std::vector<hsize_t> s = h5::shape(f, name, file);
   if (s.empty()) throw common::InputError(file, name, "is a scalar, expected an array");
@@ -171,10 +170,12 @@ void read_mpm_state(hid_t f, const std::string& path, const CheckpointPart& part
   }
   if (next != static_cast<std::size_t>(n))
     throw common::InputError(path, "/mpm_state/materials", "the materials' ranges do not cover every particle");
-  if (!part.records) return;  // the outflow record and the series: one process reads them
+  // the outflow record: this part's rows of it (the same split as the particles')
   const long long no = rows_of(f, "/mpm_state/outflow/removal_time", path);
-  r.outflow = read_set(f, "/mpm_state/outflow/particles", no, path, all_rows(no));
-  r.outflow_time = h5::read_doubles(f, "/mpm_state/outflow/removal_time", no, 1, path);
+  const std::size_t ofirst = static_cast<std::size_t>(no) * static_cast<std::size_t>(part.index) / parts;
+  const h5::RowRange orows{ofirst, static_cast<std::size_t>(no) * static_cast<std::size_t>(part.index + 1) / parts - ofirst};
+  r.outflow = read_set(f, "/mpm_state/outflow/particles", no, path, orows);
+  r.outflow_time = h5::read_doubles(f, "/mpm_state/outflow/removal_time", no, 1, path, orows);
   h5::Handle fg = h5::open_group(f, "/mpm_state/outflow/fields", path);
   H5G_info_t info;
   H5Gget_info(fg, &info);
@@ -184,9 +185,10 @@ void read_mpm_state(hid_t f, const std::string& path, const CheckpointPart& part
     if (!d.valid()) throw common::InputError(path, ds, "dataset is missing");
     const std::size_t nc = cols_of(f, ds, path);
     r.outflow_fields.push_back({h5::read_attr_string(d, "name", path), h5::unit_of(f, ds), nc,
-                                h5::read_doubles(f, ds, no, nc, path), h5::read_attr_string(d, "description", path)});
+                                h5::read_doubles(f, ds, no, nc, path, orows), h5::read_attr_string(d, "description", path)});
     r.outflow_init.push_back(h5::read_attr_double(d, "initial", path));
   }
+  if (!part.records) return;  // the series: one process reads it
   const std::int64_t bytes = h5::read_attr_int(g, "series_bytes", path);
   const std::vector<std::uint64_t> words = h5::read_u64(f, "/mpm_state/series", -1, 1, path);
   if (bytes < 0 || static_cast<std::uint64_t>(bytes) > 8 * words.size())

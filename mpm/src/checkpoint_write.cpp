@@ -104,17 +104,18 @@ bool write_mpm_state(hid_t f, const ParticleSet& ps, const std::vector<MaterialS
     }
   }
   h5::Handle og = h5::create_group(g, "outflow");
-  const std::size_t no = rows.outflow_total;
+  const h5::RowBlock ob{rows.outflow_first, rows.outflow_total, rows.xfer};  // this process's rows
+  const std::size_t on = r.outflow_time.size();
   {
     h5::Handle p = h5::create_group(og, "particles");
-    ok = write_set(p, r.outflow, single(no), rows.outflow_optional) && ok;
+    ok = write_set(p, r.outflow, ob, rows.outflow_optional) && ok;
   }
-  ok = h5::write_dataset_rows(og, "removal_time", r.outflow_time.data(), mine(no), 1, "s", single(no)) && ok;
+  ok = h5::write_dataset_rows(og, "removal_time", r.outflow_time.data(), on, 1, "s", ob) && ok;
   h5::Handle fg = h5::create_group(og, "fields");
   for (std::size_t k = 0; k < r.outflow_fields.size(); ++k) {
     const common::Field& fl = r.outflow_fields[k];
     const std::string name = std::to_string(k);
-    ok = h5::write_dataset_rows(fg, name, fl.values.data(), mine(no), fl.ncomp, fl.unit, single(no)) && ok;
+    ok = h5::write_dataset_rows(fg, name, fl.values.data(), on, fl.ncomp, fl.unit, ob) && ok;
     h5::Handle ds(H5Dopen2(fg, name.c_str(), H5P_DEFAULT));
     h5::write_attr(ds, "name", fl.name);
     h5::write_attr(ds, "description", fl.description);

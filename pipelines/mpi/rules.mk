@@ -9,6 +9,7 @@
 #                       phases, communication, equalisation rounds and an h5diff of the two final
 #                       checkpoints (runs/nbody-mpi-paper-scaling/scaling.md)
 #   mpm-mpi-files-bench : mpm-frag's collective files: memory and wall against MPM_FILES_OLD
+#   mpm-mpi-outflow-bench : mpm-frag's outflow record written together: memory and wall against MPM_OUTFLOW_OLD
 #   nbody-rows-bench    : ms per series row of ssdem-grav, serial and on 2 ranks
 #   nbody-mpi-files-bench: ssdem-grav's collective files on 2 ranks: memory and wall vs another binary
 #   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
@@ -49,6 +50,15 @@ nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks 
 mpm-mpi-files-bench: build-mpi ## mpm-frag on 2-3 ranks: memory and wall of snapshots, checkpoints, restart vs MPM_FILES_OLD
 	@test -n "$(MPM_FILES_OLD)" || { echo "set MPM_FILES_OLD=<an MPI mpm-frag of another commit>"; exit 2; }
 	$(ROOT)/pipelines/mpi/mpm_files_bench.sh $(MPI_BUILD)/mpm/mpm-frag $(MPM_FILES_OLD) $(RUNS)/mpm-mpi-files \
+	  $(MPI_SCALING_REPS) $(MPIRUN)
+
+# mpm-frag's outflow record on MPI ranks (issue 19): peak memory per rank and wall of a run in
+# which 187 500 particles leave the grid, this build against MPM_OUTFLOW_OLD (an MPI mpm-frag that
+# gathered the record to rank 0), interleaved MPI_SCALING_REPS times; runs/mpm-mpi-outflow/outflow.md.
+.PHONY: mpm-mpi-outflow-bench
+mpm-mpi-outflow-bench: build-mpi ## mpm-frag on 2 ranks: memory and wall of the outflow record written together vs MPM_OUTFLOW_OLD
+	@test -n "$(MPM_OUTFLOW_OLD)" || { echo "set MPM_OUTFLOW_OLD=<an MPI mpm-frag of another commit>"; exit 2; }
+	$(ROOT)/pipelines/mpi/mpm_outflow_bench.sh $(MPI_BUILD)/mpm/mpm-frag $(MPM_OUTFLOW_OLD) $(RUNS)/mpm-mpi-outflow \
 	  $(MPI_SCALING_REPS) $(MPIRUN)
 
 # ssdem-grav's files on MPI ranks (issue 19 item 4): peak memory per rank and wall of a

@@ -73,7 +73,8 @@ Checkpoint read_checkpoint(const std::string& path, const common::H5Hook& extra 
 /// The part of a checkpoint that process `index` of `count` reads (a restart on MPI ranks, each
 /// rank reading its own rows independently, so no rank holds every particle): the particle rows
 /// [first, first + n) with first = total * index / count, each material's state rows among
-/// them, the scalars, and, if `records`, the outflow record and the series (one process).
+/// them, the outflow record's rows [no * index / count, no * (index + 1) / count) of its no rows
+/// (the same split), the scalars, and, if `records`, the series (one process).
 struct CheckpointPart {
   int index = 0;
   int count = 1;

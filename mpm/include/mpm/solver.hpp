@@ -341,6 +341,7 @@ class Solver {
   Eigen::Vector3i nblocks_;
   std::vector<std::uint32_t> key_;
   std::vector<char> out_flag_;  ///< particles outside the grid (outflow_remove only)
+  bool rebinning_ = false;      ///< bin() binning again after removing particles (no reduction)
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> block_start_;
   std::array<std::vector<std::uint32_t>, 8> colour_blocks_;

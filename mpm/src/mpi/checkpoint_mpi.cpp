@@ -50,7 +50,7 @@ RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const commo
 void resume(DomainSolver& dom, RestartData& rd) {
   Comm& comm = dom.comm();
   // the removed particles' totals: each rank its own when as many ranks wrote the file (the
-  // same sums in the same order), else all on rank 0; the record itself stays on rank 0
+  // same sums in the same order), else all on rank 0; each rank keeps its part of the record
   const std::size_t nt = pack_totals(Diagnostics{}).size();
   std::vector<double> all;
   if (comm.rank == 0) {

@@ -11,6 +11,7 @@
 #include "common/particle_file_mpi.hpp"
 #include "mpm/checkpoint_rows.hpp"
 #include "mpm/mpi/checkpoint_mpi.hpp"
+#include "mpm/mpi/snapshot_mpi.hpp"
 #include "mpm/output.hpp"
 
 namespace mpmfrag::mpi {
@@ -30,35 +31,27 @@ std::size_t set_row_bytes(bool optional) {
   return b;
 }
 
-/// The outflow record on rank 0 (gathered: it is small against the particles) and its
-/// description on every rank: row count, fields' names, units, widths, descriptions and initial
-/// values, totals. Returns the rank totals (rank 0) for /mpm_state/mpi.
-std::vector<double> outflow_on_root(DomainSolver& dom, SolverResume& r, bool& optional) {
+/// The outflow record moved to this rank's block of the file's rows (sorted by (removal time, id)
+/// across the ranks, outflow_keys) in r.outflow, outflow_time and outflow_fields, with the field
+/// list merged over the ranks and the totals on every rank (DomainSolver::local_outflow): no rank
+/// holds the whole record. Sets `rows`' outflow block and flag; returns the rank totals.
+std::vector<double> outflow_block(DomainSolver& dom, SolverResume& r, CheckpointRows& rows) {
   Comm& comm = dom.comm();
-  OutflowRecord out = dom.gather_outflow(0);
-  const bool root = comm.rank == 0;
-  r.outflow = root ? std::move(out.ps) : ParticleSet{};
-  r.outflow_time = root ? std::move(out.time) : std::vector<double>{};
-  r.outflow_fields = root ? std::move(out.fields) : std::vector<common::Field>{};
-  r.outflow_init = root ? std::move(out.init) : std::vector<double>{};
-  long long head[3] = {static_cast<long long>(r.outflow_fields.size()), uses_optional_arrays(r.outflow) ? 1 : 0, 0};
-  MPI_Bcast(head, 3, MPI_LONG_LONG, 0, comm.c);
-  optional = head[1] != 0;
-  const std::size_t nf = static_cast<std::size_t>(head[0]);
-  std::vector<double> tot = pack_totals(out.totals);
-  MPI_Bcast(tot.data(), static_cast<int>(tot.size()), MPI_DOUBLE, 0, comm.c);
-  r.outflow_totals = unpack_totals(tot);
-  r.outflow_init.resize(nf);
-  MPI_Bcast(r.outflow_init.data(), static_cast<int>(nf), MPI_DOUBLE, 0, comm.c);
-  r.outflow_fields.resize(nf);
-  for (common::Field& f : r.outflow_fields) {
-    f.name = comm.bcast(f.name);
-    f.unit = comm.bcast(f.unit);
-    f.description = comm.bcast(f.description);
-    long long nc = static_cast<long long>(f.ncomp);
-    MPI_Bcast(&nc, 1, MPI_LONG_LONG, 0, comm.c);
-    f.ncomp = static_cast<std::size_t>(nc);
-  }
+  OutflowRecord out = dom.local_outflow();
+  const SortedRows plan(comm, outflow_keys(out));
+  rows.outflow_optional = !comm.all(!uses_optional_arrays(out.ps));
+  r.outflow = ParticleSet{};
+  ParticleSet::for_each_array([&](const auto& a) {
+    if (!a.info.optional || rows.outflow_optional)
+      r.outflow.*a.member = plan.move((out.ps.*a.member).data(), static_cast<std::size_t>(a.info.width));
+  });
+  r.outflow_time = plan.move(out.time, 1);
+  for (common::Field& f : out.fields) f.values = plan.move(f.values, f.ncomp);
+  r.outflow_fields = std::move(out.fields);
+  r.outflow_init = std::move(out.init);
+  r.outflow_totals = out.totals;
+  rows.outflow_first = plan.offset();
+  rows.outflow_total = plan.total();
   return out.rank_totals;
 }
 }  // namespace
@@ -107,26 +100,22 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
     slots[m].begin = begin;
     slots[m].end = begin += pm.total();
   }
-  bool outflow_optional = false;
-  const std::vector<double> rank_totals = outflow_on_root(dom, r, outflow_optional);
-  long long no = static_cast<long long>(r.outflow.size());
-  MPI_Bcast(&no, 1, MPI_LONG_LONG, 0, comm.c);
+  CheckpointRows rows;
+  const std::vector<double> rank_totals = outflow_block(dom, r, rows);
+  const std::size_t no = rows.outflow_total;
   DriverState d = driver;
   d.series = comm.bcast(driver.series);  // rank 0's series text
-  std::size_t out_row = set_row_bytes(outflow_optional) + 8;
+  std::size_t out_row = set_row_bytes(rows.outflow_optional) + 8;
   for (const common::Field& f : r.outflow_fields) out_row += 8 * f.ncomp;
   const std::uintmax_t bytes = common::mpi::particle_file_bytes(local, plan.total()) +
                                (set_row_bytes(optional) + 12) * plan.total() + state_bytes +
-                               out_row * static_cast<std::size_t>(no) + d.series.size() + 16384 * (40 + 4 * mats.size());
+                               out_row * no + d.series.size() + 16384 * (40 + 4 * mats.size());
   common::mpi::ParallelFile file(comm, path, bytes);
-  CheckpointRows rows;
   rows.particles = file.rows(plan.offset(), plan.total());
   for (const auto& [off, tot] : slot_rows) rows.slots.push_back(file.rows(off, tot));
-  rows.outflow_total = static_cast<std::size_t>(no);
   rows.single_writer = comm.rank == 0;
   rows.xfer = file.xfer();
   rows.optional_arrays = optional;
-  rows.outflow_optional = outflow_optional;
   bool ok = common::write_particle_content(file.id(), snap, prov, rows.particles);
   ok = write_mpm_state(file.id(), set, slots, r, d, identity, rows) && ok;
   {  // /mpm_state/mpi: the cuts and where each particle was (a restart on as many ranks)

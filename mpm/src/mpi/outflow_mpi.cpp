@@ -2,12 +2,15 @@
 /// Outflow removal on MPI ranks (mpm/mpi/domain.hpp): each rank removes the particles of its
 /// slab whose stencil leaves the grid (Solver, outflow.cpp: the serial code) and keeps their
 /// record; the totals of the removed particles are part of each rank's diagnostics, summed in
-/// rank order. For output and checkpoints the records are gathered to one rank:
-///   record of a rank = count | fields (name, unit, description, ncomp, initial) |
-///                      per particle: every non-empty ParticleSet array, removal time, fields
-/// merged there with the fields matched by name (a particle from a rank without a field gets the
-/// field's initial value, as in Solver::remove_particles) and sorted by (removal time, id): the
-/// record does not depend on the rank count or on which rank removed a particle.
+/// rank order. The records stay on their ranks: the outflow file and the checkpoints write them
+/// collectively (local_outflow, then rows sorted by (removal time, id) across the ranks), so the
+/// files do not depend on the rank count or on which rank removed a particle. Every rank's field
+/// list is merged in rank order, fields matched by name (a particle from a rank without a field
+/// gets the field's initial value, as in Solver::remove_particles):
+///   field list of a rank = count | per field: name, unit, description, ncomp, initial
+/// gather_outflow puts the whole record on one rank (tests compare the collective files with it):
+///   record of a rank = row count | field list | per particle: every non-empty ParticleSet array,
+///                      removal time, fields
 #include <algorithm>
 #include <cstring>
 #include <numeric>
@@ -28,13 +31,7 @@ std::string get_string(const std::vector<char>& b, std::size_t& off) {
   off += n;
   return s;
 }
-}  // namespace
-
-OutflowRecord DomainSolver::gather_outflow(int root) {
-  const SolverResume r = solver_->resume_state();
-  const ParticleSet& o = r.outflow;
-  std::vector<char> buf;
-  put(buf, static_cast<std::uint64_t>(o.size()));
+void put_fields(std::vector<char>& buf, const SolverResume& r) {
   put(buf, static_cast<std::uint64_t>(r.outflow_fields.size()));
   for (std::size_t f = 0; f < r.outflow_fields.size(); ++f) {
     const common::Field& fl = r.outflow_fields[f];
@@ -44,6 +41,83 @@ OutflowRecord DomainSolver::gather_outflow(int root) {
     put(buf, static_cast<std::uint64_t>(fl.ncomp));
     put(buf, r.outflow_init[f]);
   }
+}
+/// Read one rank's field list at `off` and merge it into rec.fields / rec.init (a new field is
+/// appended with no values); returns each of the rank's fields' index in the merged list.
+std::vector<std::size_t> merge_fields(const std::vector<char>& b, std::size_t& off, OutflowRecord& rec) {
+  const std::size_t nf = static_cast<std::size_t>(get<std::uint64_t>(b, off));
+  std::vector<std::size_t> at(nf);
+  for (std::size_t f = 0; f < nf; ++f) {
+    common::Field fl;
+    fl.name = get_string(b, off);
+    fl.unit = get_string(b, off);
+    fl.description = get_string(b, off);
+    fl.ncomp = static_cast<std::size_t>(get<std::uint64_t>(b, off));
+    const double init = get<double>(b, off);
+    const auto it = std::find_if(rec.fields.begin(), rec.fields.end(), [&](const common::Field& g) { return g.name == fl.name; });
+    at[f] = static_cast<std::size_t>(it - rec.fields.begin());
+    if (it == rec.fields.end()) {
+      rec.fields.push_back(std::move(fl));
+      rec.init.push_back(init);
+    }
+  }
+  return at;
+}
+/// The totals of the removed particles: the ranks' partials (pack_totals, rank-major) summed in
+/// rank order (the same sum on every run).
+Diagnostics sum_rank_totals(const std::vector<double>& rank_totals, int ranks) {
+  const std::size_t nt = pack_totals(Diagnostics{}).size();
+  Diagnostics t;
+  for (int k = 0; k < ranks; ++k) {
+    const Diagnostics d = unpack_totals(std::vector<double>(rank_totals.begin() + nt * k, rank_totals.begin() + nt * (k + 1)));
+    t.mass += d.mass;
+    t.momentum += d.momentum;
+    t.angular_momentum += d.angular_momentum;
+    t.kinetic += d.kinetic;
+    t.internal += d.internal;
+    t.removed += d.removed;
+    t.removed_mass += d.removed_mass;
+    t.work_dev += d.work_dev;
+    t.heat_shock += d.heat_shock;
+    t.heat_transfer += d.heat_transfer;
+    t.elastic += d.elastic;
+    t.dissipated += d.dissipated;
+  }
+  return t;
+}
+}  // namespace
+
+OutflowRecord DomainSolver::local_outflow() {
+  SolverResume r = solver_->resume_state();
+  std::vector<char> desc;
+  put_fields(desc, r);
+  std::vector<int> counts;
+  const double before = comm_.bytes_sent;
+  const std::vector<char> all = comm_.gather(desc, -1, &counts);  // every rank's list, rank order
+  OutflowRecord rec;
+  std::size_t off = 0;
+  std::vector<std::size_t> at;
+  for (int k = 0; k < comm_.size; ++k) {
+    std::vector<std::size_t> a = merge_fields(all, off, rec);
+    if (k == comm_.rank) at = std::move(a);
+  }
+  const std::size_t n = r.outflow.size();
+  for (std::size_t g = 0; g < rec.fields.size(); ++g) rec.fields[g].values.assign(n * rec.fields[g].ncomp, rec.init[g]);
+  for (std::size_t f = 0; f < at.size(); ++f) rec.fields[at[f]].values = std::move(r.outflow_fields[f].values);
+  rec.ps = std::move(r.outflow);
+  rec.time = std::move(r.outflow_time);
+  rec.rank_totals = comm_.gather(pack_totals(r.outflow_totals));
+  stats_.migrate_bytes += comm_.bytes_sent - before;
+  rec.totals = sum_rank_totals(rec.rank_totals, comm_.size);
+  return rec;
+}
+
+OutflowRecord DomainSolver::gather_outflow(int root) {
+  const SolverResume r = solver_->resume_state();
+  const ParticleSet& o = r.outflow;
+  std::vector<char> buf;
+  put(buf, static_cast<std::uint64_t>(o.size()));
+  put_fields(buf, r);
   for (std::size_t p = 0; p < o.size(); ++p) {
     ParticleSet::for_each_array([&](const auto& a) {
       const auto& v = o.*a.member;
@@ -63,23 +137,7 @@ OutflowRecord DomainSolver::gather_outflow(int root) {
   rec.rank_totals = comm_.gather(pack_totals(r.outflow_totals), root);
   stats_.migrate_bytes += comm_.bytes_sent - before;
   if (comm_.rank != root) return rec;
-  const std::size_t nt = pack_totals(Diagnostics{}).size();
-  for (int k = 0; k < comm_.size; ++k) {  // rank order: the same sum on every run
-    const Diagnostics d = unpack_totals(std::vector<double>(rec.rank_totals.begin() + nt * k, rec.rank_totals.begin() + nt * (k + 1)));
-    Diagnostics& t = rec.totals;
-    t.mass += d.mass;
-    t.momentum += d.momentum;
-    t.angular_momentum += d.angular_momentum;
-    t.kinetic += d.kinetic;
-    t.internal += d.internal;
-    t.removed += d.removed;
-    t.removed_mass += d.removed_mass;
-    t.work_dev += d.work_dev;
-    t.heat_shock += d.heat_shock;
-    t.heat_transfer += d.heat_transfer;
-    t.elastic += d.elastic;
-    t.dissipated += d.dissipated;
-  }
+  rec.totals = sum_rank_totals(rec.rank_totals, comm_.size);
   // unpack every rank's record in rank order, fields merged by name
   ParticleSet ps;
   std::vector<double> time;
@@ -88,23 +146,11 @@ OutflowRecord DomainSolver::gather_outflow(int root) {
   for (const std::vector<char>& b : all) {
     std::size_t off = 0;
     const std::size_t n = static_cast<std::size_t>(get<std::uint64_t>(b, off));
-    const std::size_t nf = static_cast<std::size_t>(get<std::uint64_t>(b, off));
-    std::vector<std::size_t> at(nf);  // merged index of each of this rank's fields
-    for (std::size_t f = 0; f < nf; ++f) {
-      common::Field fl;
-      fl.name = get_string(b, off);
-      fl.unit = get_string(b, off);
-      fl.description = get_string(b, off);
-      fl.ncomp = static_cast<std::size_t>(get<std::uint64_t>(b, off));
-      const double init = get<double>(b, off);
-      const auto it = std::find_if(rec.fields.begin(), rec.fields.end(), [&](const common::Field& g) { return g.name == fl.name; });
-      at[f] = static_cast<std::size_t>(it - rec.fields.begin());
-      if (it == rec.fields.end()) {  // new: earlier particles get its initial value
-        values.emplace_back(time.size() * fl.ncomp, init);
-        rec.fields.push_back(std::move(fl));
-        rec.init.push_back(init);
-      }
-    }
+    const std::size_t had = rec.fields.size();
+    const std::vector<std::size_t> at = merge_fields(b, off, rec);
+    const std::size_t nf = at.size();
+    for (std::size_t g = had; g < rec.fields.size(); ++g)  // new: earlier particles get its initial value
+      values.emplace_back(time.size() * rec.fields[g].ncomp, rec.init[g]);
     for (std::size_t p = 0; p < n; ++p) {
       ParticleSet::for_each_array([&](const auto& a) {
         if (a.info.optional && !with_q) return;

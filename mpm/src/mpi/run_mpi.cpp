@@ -116,19 +116,22 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     }
     sum.last_snapshot = path;
   };
-  // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record gathered
-  // to rank 0, in <prefix>_outflow.h5 next to each snapshot (as on one rank).
-  std::size_t reported_out = 0;
+  // Particles removed at the grid edge (grid.outflow = "remove"): every rank's record written
+  // together, in <prefix>_outflow.h5 next to each snapshot (as on one rank).
+  long long reported_out = static_cast<long long>(dom.local().outflow_count());  // a restart's record
+  comm.sum(&reported_out, 1);
   auto write_outflow = [&]() {
     if (!st.solver.outflow_remove) return;
-    const OutflowRecord out = dom.gather_outflow(0);
-    if (rank != 0 || out.ps.size() == 0) return;
+    const OutflowRecord out = dom.local_outflow();
+    long long n = static_cast<long long>(out.ps.size());
+    comm.sum(&n, 1);
+    if (n == 0) return;
     const std::string path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_outflow.h5")).string();
-    common::write_particle_snapshot(path, make_outflow_snapshot(out.ps, out.time, out.fields, st.grid, dom.time(), dom.step_count()), prov);
-    if (out.ps.size() != reported_out)
-      spdlog::info("outflow: {} particles ({:.4g} kg) have left the grid by t = {:.6g} s -> {}", out.ps.size(),
-                   out.totals.mass, dom.time(), path);
-    reported_out = out.ps.size();
+    write_outflow_mpi(comm, out, st.grid, dom.time(), dom.step_count(), path, prov);
+    if (n != reported_out)
+      spdlog::info("outflow: {} particles ({:.4g} kg) have left the grid by t = {:.6g} s -> {}", n, out.totals.mass,
+                   dom.time(), path);
+    reported_out = n;
   };
   const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
   std::unique_ptr<SeriesWriter> series;
@@ -136,6 +139,11 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     series = std::make_unique<SeriesWriter>(series_path, std::vector<std::size_t>{},
                                             restart.empty() ? std::nullopt : std::optional<std::string>(std::move(drv.series)));
   drv.series.clear();
+  auto commit_series = [&]() {  // rank 0's file; a failure there fails every rank alike
+    common::mpi::agreed(comm, [&] {
+      if (series) series->commit();
+    });
+  };
   auto checkpoint = [&]() {
     if (series) drv.series = series->text();
     write_checkpoint_mpi(dom, ckpt_path, drv, prov, ident.text());
@@ -198,7 +206,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       if (due[0] > 0) {
         checkpoint();
         write_outflow();
-        if (series) series->commit();
+        commit_series();
         const int sig = static_cast<int>(due[0]);
         spdlog::warn("interrupted by signal {} at step {}; continue with --restart {}", sig, dom.step_count(), ckpt_path);
         sum.signal = sig;
@@ -215,10 +223,8 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     const std::string path = write_failed(comm.all(f.state_intact));
     write_outflow();
     const Diagnostics d = dom.diagnostics();
-    if (series) {
-      series->write(dom.step_count(), dom.time(), dt, d, {});
-      series->commit();  // the series up to the failure, in the staging directory
-    }
+    if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
+    commit_series();  // the series up to the failure, in the staging directory
     if (rank == 0) spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
     throw common::NumericalError(std::string(f.what()), path);
   }
@@ -228,7 +234,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   write_snap();
   write_outflow();
   checkpoint();
-  if (series) series->commit();
+  commit_series();
   common::mpi::agreed(comm, [&] {
     if (run_dir) run_dir->publish();
   });

@@ -62,9 +62,21 @@ void Solver::bin() {
     os << "non-finite position of particle id " << ps_.id[first_nan] << " at t = " << time_ << " s, step " << step_;
     throw SolverFailure(os.str(), true);
   }
+  if (cfg_.outflow_remove && sub_.exchange && !rebinning_) {
+    // On MPI ranks (every rank, once per step: the re-binning below, on the removing ranks only,
+    // does not reduce): every particle of every rank leaving stops the run before any is
+    // removed, the state intact, as remove_particles does on one process.
+    if (!any_process(n_out < n)) {
+      std::ostringstream os;
+      os << "all particles left the grid by t = " << time_ << " s, step " << step_;
+      throw SolverFailure(os.str(), true);
+    }
+  }
   if (n_out > 0 && cfg_.outflow_remove) {
     remove_particles(out_flag_);
+    rebinning_ = true;
     bin<NPA>();
+    rebinning_ = false;
     return;
   }
   if (first_bad < n) {

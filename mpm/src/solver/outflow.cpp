@@ -25,7 +25,7 @@ void Solver::remove_particles(const std::vector<char>& out) {
   std::size_t n_out = 0;
   for (std::size_t p = 0; p < n; ++p) n_out += out[p] ? 1 : 0;
   if (n_out == 0) return;
-  if (n_out == n && !sub_.exchange) {  // on MPI ranks a rank may empty: DomainSolver checks the total
+  if (n_out == n && !sub_.exchange) {  // on MPI ranks a rank may empty: bin() checks the total
     std::ostringstream os;
     os << "all " << n << " particles left the grid by t = " << time_ << " s, step " << step_;
     throw SolverFailure(os.str(), true);

@@ -7,7 +7,10 @@
 #    published files of the earlier run stay byte for byte; the last good state (here the
 #    intact current state) is saved as <prefix>_failed_<step>.h5 in the failed run's staging
 #    directory, the same particles as one rank's (to DELTA in every value), and the series up to the
-#    failure is committed there.
+#    failure is committed there;
+#  - with outflow removal the body leaves particle by particle, and the step at which every
+#    remaining particle would leave stops the run before any is removed (exit 3) at the same
+#    step on 1 and NP ranks, the remaining particles and the outflow file saved alike.
 # A failure that leaves the state not intact saves the ranks' backups instead (every
 # run.backup_every steps): no scene provokes one through the CFL-controlled driver, so that path
 # is tested on the DomainSolver (test_mpm_mpi_failure.cpp, a 100x step).
@@ -101,6 +104,7 @@ echo "body leaving the grid on $np ranks: exit 3 at step ${steps[1]} as on one r
 exec 9>"$w/np$np/.lock"  # this shell holds the run lock (flock(2), as another run would)
 flock -n 9 || fail "cannot take the lock of $w/np$np"
 before=$(sums "np$np")
+staged=$(ls -d "$w/np$np"/.staging-* | wc -l)
 set +e
 mpm "$np" "np$np" --set time.end=0.001 >"$w/locked.log" 2>&1
 rc=$?
@@ -109,5 +113,26 @@ exec 9>&-
 [ "$rc" -eq 2 ] || fail "a run into a locked directory on $np ranks: exit $rc, expected 2"
 grep -q "in use by another run" "$w/locked.log" || fail "the refusal does not say the directory is in use: $(tail -2 "$w/locked.log")"
 [ "$(sums "np$np")" = "$before" ] || fail "the refused run changed the directory"
+[ "$(ls -d "$w/np$np"/.staging-* | wc -l)" = "$staged" ] || fail "the refused run left a staging directory"
 echo "a second run into a locked directory on $np ranks: refused (exit 2), nothing changed"
 
+
+# outflow removal: the last particles leave; the run stops before removing them, as on one rank
+steps=()
+for n in 1 "$np"; do
+  set +e
+  mpm "$n" "out$n" --set 'grid.outflow="remove"' >"$w/out$n.log" 2>&1
+  rc=$?
+  set -e
+  [ "$rc" -eq 3 ] || fail "$n rank(s): exit $rc when every particle leaves, expected 3: $(tail -3 "$w/out$n.log")"
+  grep -q "particles left the grid by" "$w/out$n.log" || fail "$n rank(s): the failure is not named: $(grep -m1 error "$w/out$n.log")"
+  f=$(ls "$w/out$n"/.staging-*/edge_failed_*.h5 2>/dev/null) || fail "$n rank(s): no last good state"
+  [ -f "$(dirname "$f")/edge_outflow.h5" ] || fail "$n rank(s): no outflow file beside the last good state"
+  steps+=("$(basename "$f" .h5 | sed 's/edge_failed_0*//')")
+done
+[ "${steps[0]}" = "${steps[1]}" ] || fail "every particle leaving: step ${steps[0]} (1 rank) vs ${steps[1]} ($np ranks)"
+one=$(ls "$w"/out1/.staging-*/edge_failed_*.h5) many=$(ls "$w/out$np"/.staging-*/edge_failed_*.h5)
+same_particles "$one" "$many" || fail "every particle leaving: the saved state on $np ranks differs from one rank's"
+same_particles "$(dirname "$one")/edge_outflow.h5" "$(dirname "$many")/edge_outflow.h5" ||
+  fail "every particle leaving: the outflow file on $np ranks differs from one rank's"
+echo "every particle leaving on $np ranks: exit 3 at step ${steps[1]} before any is removed, as on one rank"

@@ -154,7 +154,7 @@ inline mpi::DomainOptions impact_options() {
 // Outflow removal (grid.outflow = "remove"): two flyers (Tonge–Ramesh rock and elastic) side by
 // side along the split axis leave the grid through y+ at 400 m/s next to a resting rock bar;
 // removals at 6.9e-5 and 8.2e-5 s.
-inline Setup outflow_setup() {
+inline Setup outflow_setup(const std::vector<std::string>& overrides = {}) {
   return mpmtest::setup_from(R"(
 [grid]
 domain_min = [0.0, 0.0, 0.0]
@@ -181,6 +181,6 @@ shape = "box"
 min = [0.16, 0.04, 0.01]
 max = [0.28, 0.05, 0.03]
 velocity = [0.0, 400.0, 0.0]
-)");
+)", overrides);
 }
 }  // namespace mpmtest

@@ -120,6 +120,13 @@ TEST(MpmMpiFiles, CheckpointWithTheOutflowRecordEqualsTheGatheredFile) {
   expect_equal_to_gathered(outflow_setup(), 7.5e-5, mpi::DomainOptions{}, 100, false);
 }
 
+// The same with artificial viscosity: the optional array q in the particles' and the outflow
+// record's blocks (a rank without removed particles holds none of either's rows).
+TEST(MpmMpiFiles, CheckpointWithTheOutflowRecordAndViscosityEqualsTheGatheredFile) {
+  expect_equal_to_gathered(outflow_setup({"solver.artificial_viscosity.enabled=true"}), 7.5e-5, mpi::DomainOptions{}, 100,
+                           true);
+}
+
 TEST(MpmMpiFiles, FullDiskKeepsTheEarlierCheckpoint) {
   SharedDir dir;
   ImpactAt20us run;
@@ -165,50 +172,78 @@ TEST(MpmMpiFiles, NonFiniteValueOnOneRankWritesNothing) {
 }
 
 // A restart on several ranks reads the checkpoint in parts (read_checkpoint_part): the parts of
-// any count tile the whole read exactly (every array, every material's state rows and ranges),
-// and only the first carries the outflow record and the series. With 20 parts the last lie beyond
-// the Tonge–Ramesh rock's rows (94 % of them, material 0), whose state they must not read.
+// any count tile the whole read exactly (every array, every material's state rows and ranges,
+// the outflow record's rows), and only the first carries the series. With 20 parts the last lie
+// beyond the Tonge–Ramesh rock's rows (94 % of them, material 0), whose state they must not
+// read. Two files: the impact, and the outflow scene after 100 or more removals.
 TEST(MpmMpiFiles, CheckpointPartsTileTheWholeFile) {
   SharedDir dir;
   ImpactAt20us run;
-  const std::string path = dir.path + "/ck.h5";
-  mpi::write_checkpoint_mpi(run.dom, path, run.d, kProv, "");
+  const std::string impact = dir.path + "/ck.h5", removed = dir.path + "/outflow.h5";
+  mpi::write_checkpoint_mpi(run.dom, impact, run.d, kProv, "");
+  DomainSolver out(MPI_COMM_WORLD, outflow_setup(), mpi::DomainOptions{});
+  out.initialize();
+  const DriverState od = driver(out);
+  run_domain(out, 7.5e-5);
+  mpi::write_checkpoint_mpi(out, removed, od, kProv, "");
   if (rank() != 0) return;
-  const Checkpoint whole = read_checkpoint(path);
-  ASSERT_GT(whole.particles.size(), 100u);
-  for (const int parts : {1, 2, 3, 7, 20}) {
-    ParticleSet cat;
-    std::vector<std::vector<std::vector<double>>> state(whole.materials.size());
-    for (int i = 0; i < parts; ++i) {
-      const Checkpoint p = read_checkpoint_part(path, CheckpointPart{i, parts, i == 0});
-      EXPECT_EQ(p.first, cat.size()) << parts << " parts, part " << i;
-      EXPECT_EQ(p.total, whole.particles.size());
-      EXPECT_EQ(p.driver.series.empty(), i != 0);
-      EXPECT_EQ(p.solver.step, whole.solver.step);
-      ParticleSet::for_each_array([&](const auto& a) {
-        const auto& v = p.particles.*a.member;
-        (cat.*a.member).insert((cat.*a.member).end(), v.begin(), v.end());
-      });
-      ASSERT_EQ(p.materials.size(), whole.materials.size());
-      for (std::size_t m = 0; m < p.materials.size(); ++m) {
-        const MaterialState& s = p.materials[m];
-        EXPECT_LE(s.begin, s.end);
-        EXPECT_LE(s.end, p.particles.size());
-        state[m].resize(s.fields.size());
-        for (std::size_t f = 0; f < s.fields.size(); ++f)
-          state[m][f].insert(state[m][f].end(), s.fields[f].second.begin(), s.fields[f].second.end());
-      }
+  for (const std::string& path : {impact, removed}) {
+    const Checkpoint whole = read_checkpoint(path);
+    ASSERT_GT(whole.particles.size(), 100u);
+    if (path == removed) {
+      ASSERT_GE(whole.solver.outflow.size(), 100u);
     }
-    EXPECT_EQ(cat.id, whole.particles.id) << parts << " parts";
-    EXPECT_EQ(cat.x, whole.particles.x);
-    EXPECT_EQ(cat.F, whole.particles.F);
-    EXPECT_EQ(cat.q, whole.particles.q);
-    EXPECT_EQ(cat.material, whole.particles.material);
-    for (std::size_t m = 0; m < whole.materials.size(); ++m)
-      for (std::size_t f = 0; f < whole.materials[m].fields.size(); ++f)
-        EXPECT_EQ(state[m][f], whole.materials[m].fields[f].second) << parts << " parts, material " << m << " field " << f;
+    for (const int parts : {1, 2, 3, 7, 20}) {
+      ParticleSet cat, ocat;
+      std::vector<double> otime;
+      std::vector<std::vector<double>> ofields(whole.solver.outflow_fields.size());
+      std::vector<std::vector<std::vector<double>>> state(whole.materials.size());
+      for (int i = 0; i < parts; ++i) {
+        const Checkpoint p = read_checkpoint_part(path, CheckpointPart{i, parts, i == 0});
+        EXPECT_EQ(p.first, cat.size()) << parts << " parts, part " << i;
+        EXPECT_EQ(p.total, whole.particles.size());
+        EXPECT_EQ(p.driver.series.empty(), i != 0);
+        EXPECT_EQ(p.solver.step, whole.solver.step);
+        ParticleSet::for_each_array([&](const auto& a) {
+          const auto& v = p.particles.*a.member;
+          (cat.*a.member).insert((cat.*a.member).end(), v.begin(), v.end());
+          const auto& o = p.solver.outflow.*a.member;
+          (ocat.*a.member).insert((ocat.*a.member).end(), o.begin(), o.end());
+        });
+        otime.insert(otime.end(), p.solver.outflow_time.begin(), p.solver.outflow_time.end());
+        ASSERT_EQ(p.solver.outflow_fields.size(), ofields.size()) << "every part carries the field list";
+        for (std::size_t f = 0; f < ofields.size(); ++f) {
+          EXPECT_EQ(p.solver.outflow_fields[f].name, whole.solver.outflow_fields[f].name);
+          ofields[f].insert(ofields[f].end(), p.solver.outflow_fields[f].values.begin(),
+                            p.solver.outflow_fields[f].values.end());
+        }
+        ASSERT_EQ(p.materials.size(), whole.materials.size());
+        for (std::size_t m = 0; m < p.materials.size(); ++m) {
+          const MaterialState& s = p.materials[m];
+          EXPECT_LE(s.begin, s.end);
+          EXPECT_LE(s.end, p.particles.size());
+          state[m].resize(s.fields.size());
+          for (std::size_t f = 0; f < s.fields.size(); ++f)
+            state[m][f].insert(state[m][f].end(), s.fields[f].second.begin(), s.fields[f].second.end());
+        }
+      }
+      EXPECT_EQ(cat.id, whole.particles.id) << parts << " parts";
+      EXPECT_EQ(cat.x, whole.particles.x);
+      EXPECT_EQ(cat.F, whole.particles.F);
+      EXPECT_EQ(cat.q, whole.particles.q);
+      EXPECT_EQ(cat.material, whole.particles.material);
+      for (std::size_t m = 0; m < whole.materials.size(); ++m)
+        for (std::size_t f = 0; f < whole.materials[m].fields.size(); ++f)
+          EXPECT_EQ(state[m][f], whole.materials[m].fields[f].second) << parts << " parts, material " << m << " field " << f;
+      EXPECT_EQ(ocat.id, whole.solver.outflow.id) << parts << " parts: the outflow record";
+      EXPECT_EQ(ocat.x, whole.solver.outflow.x);
+      EXPECT_EQ(ocat.v, whole.solver.outflow.v);
+      EXPECT_EQ(otime, whole.solver.outflow_time);
+      for (std::size_t f = 0; f < ofields.size(); ++f)
+        EXPECT_EQ(ofields[f], whole.solver.outflow_fields[f].values) << whole.solver.outflow_fields[f].name;
+    }
+    EXPECT_THROW(read_checkpoint_part(path, CheckpointPart{3, 3, false}), std::logic_error);
   }
-  EXPECT_THROW(read_checkpoint_part(path, CheckpointPart{3, 3, false}), std::logic_error);
 }
 
 // A corrupt or truncated checkpoint: every rank reads its own part, and every rank throws the

@@ -6,11 +6,13 @@
 /// Against one rank: the same particles removed at the same times, their record (ballistic
 /// positions, velocities, damage, removal times) and the remaining particles within the
 /// cross-rank tolerances of test_mpm_mpi.cpp; totals including the removed particles. A checkpoint
-/// taken while half of the flyers have left continues bit-identically on as many ranks.
+/// taken while half of the flyers have left continues bit-identically on as many ranks. The
+/// outflow file written by every rank together equals the one of the gathered record.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -19,6 +21,7 @@
 #include "common/particle_file.hpp"
 #include "mpi_test_helpers.hpp"
 #include "mpm/mpi/checkpoint_mpi.hpp"
+#include "mpm/mpi/snapshot_mpi.hpp"
 #include "mpm/output.hpp"
 
 using namespace mpmfrag;
@@ -152,4 +155,39 @@ TEST(MpmMpiOutflow, CheckpointWithRemovedParticlesContinuesBitIdentically) {
   EXPECT_EQ(a.d.mass, b.d.mass);
   EXPECT_EQ(a.d.total(), b.d.total());
   for (int k = 0; k < 3; ++k) EXPECT_EQ(a.d.momentum[k], b.d.momentum[k]) << k;
+}
+
+// The outflow file written by every rank together (write_outflow_mpi, the MPI driver's) equals
+// the file the serial writer makes of the gathered record (h5diff, provenance aside): the same
+// rows in (removal time, id) order, the field lists of the ranks merged in the same order, a
+// field missing on a rank's particles at its initial value. Every rank removed particles, and
+// their records hold different fields (Tonge–Ramesh and elastic).
+TEST(MpmMpiOutflow, TheFileWrittenTogetherEqualsTheGatheredFile) {
+  const common::Provenance prov{"mpm-frag", "test", "test", "test", ""};
+  SharedDir dir;
+  DomainSolver dom(MPI_COMM_WORLD, outflow_setup());
+  dom.initialize();
+  run_domain(dom, kEnd);
+  const mpi::OutflowRecord local = dom.local_outflow();
+  long long rows[2] = {static_cast<long long>(local.ps.size()), local.ps.size() > 0 ? 1 : 0};
+  dom.comm().sum(rows, 2);
+  // each rank's own field list (before the merge), as a count: the ranks' lists must differ
+  double own = static_cast<double>(dom.local().resume_state().outflow_fields.size());
+  const std::vector<double> lists = dom.comm().allgather(&own, 1);
+  const std::string par = dir.path + "/together.h5", ser = dir.path + "/gathered.h5";
+  mpi::write_outflow_mpi(dom.comm(), local, dom.local().grid(), dom.time(), dom.step_count(), par, prov);
+  const mpi::OutflowRecord all = dom.gather_outflow(0);
+  if (rank() != 0) return;
+  EXPECT_EQ(rows[1], ranks()) << "every rank must hold removed particles";
+  EXPECT_NE(*std::min_element(lists.begin(), lists.end()), *std::max_element(lists.begin(), lists.end()))
+      << "the ranks' records must hold different fields (merged by name)";
+  ASSERT_EQ(all.ps.size(), static_cast<std::size_t>(rows[0]));
+  ASSERT_EQ(local.fields.size(), all.fields.size());
+  for (std::size_t f = 0; f < all.fields.size(); ++f) EXPECT_EQ(local.fields[f].name, all.fields[f].name);
+  common::write_particle_snapshot(
+      ser, make_outflow_snapshot(all.ps, all.time, all.fields, dom.local().grid(), dom.time(), dom.step_count()), prov);
+  const std::string cmd = "h5diff --exclude-path /provenance " + ser + " " + par;
+  EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::printf("%d ranks: the outflow file of %lld particles written together equals the gathered one\n", ranks(),
+              rows[0]);
 }

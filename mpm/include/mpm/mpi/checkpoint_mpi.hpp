@@ -16,15 +16,17 @@
 ///                    rank's totals of the particles it removed at the grid edge (pack_totals)
 /// which only a restart on N ranks uses. The solver's carried state (SolverResume: time, step,
 /// the max signal speed of the next dt, m_min) is the same on every rank (global reductions), as
-/// parallel HDF5's attributes require; the outflow records are gathered to rank 0 (DomainSolver::gather_outflow:
-/// particles that left the grid, few against those in it), which writes them and the series text
+/// parallel HDF5's attributes require. The outflow records are sorted across the ranks by
+/// (removal time, id) too (DomainSolver::local_outflow, outflow_keys: each rank writes its block
+/// of /mpm_state/outflow, the field list merged over the ranks); rank 0 writes the series text
 /// while the other ranks join with no rows; drive loads do not exist on several ranks. A value
 /// that is not finite on any rank throws NumericalError on every rank and writes nothing.
 ///
 /// Reading (collective): every rank opens the file and reads its own part of the rows
 /// independently (mpm/checkpoint.hpp read_checkpoint_part: rows [n r / M, n (r+1) / M) of the
-/// particles, of /mpm_state/mpi and of each material's state among them; the scalars; rank 0 also
-/// the outflow record and the series), so no rank holds every particle, and checks the run
+/// particles, of /mpm_state/mpi and of each material's state among them, the same share of the
+/// outflow record's rows; the scalars; rank 0 also the series), so no rank holds every particle
+/// or the whole record, and checks the run
 /// identity; DomainSolver(comm, setup, layout) then sends each particle to its rank with its order
 /// key there (one alltoallv): on N ranks each rank gets back its particles in their order
 /// and the cuts (bit-identical continuation); on M != N ranks (or from a serial checkpoint) the
@@ -51,7 +53,7 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
 
 /// A checkpoint read for a restart on MPI ranks.
 struct RestartData {
-  Checkpoint ck;  ///< this rank's part (rank 0 also the outflow record and the series)
+  Checkpoint ck;  ///< this rank's part, with its part of the outflow record (rank 0 also the series)
   Layout layout;  ///< the ranks that wrote this part's particles (no cuts: a serial checkpoint)
 };
 
@@ -60,8 +62,9 @@ struct RestartData {
 RestartData read_checkpoint_mpi(Comm& comm, const std::string& path, const common::RunIdentity& ident);
 
 /// Continue `dom` (built from `rd` by DomainSolver(comm, setup, rd.layout)) with the solver's
-/// carried state (collective; instead of initialize()): the outflow record goes to rank 0 and
-/// the removed particles' totals to the ranks that held them (as many ranks) or to rank 0.
+/// carried state (collective; instead of initialize()): each rank keeps the part of the outflow
+/// record it read (the files sort the record, so any split writes the same files), and the
+/// removed particles' totals go to the ranks that held them (as many ranks) or to rank 0.
 void resume(DomainSolver& dom, RestartData& rd);
 
 }  // namespace mpmfrag::mpi

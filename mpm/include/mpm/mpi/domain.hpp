@@ -50,13 +50,12 @@
 /// momentum to round-off of the force sums (the force on a shared node is the same sum).
 ///
 /// ## Not yet
-/// Snapshots, checkpoints and the last good state of a failure are written by every rank
-/// together with collective parallel HDF5 (snapshot_mpi.hpp, checkpoint_mpi.hpp: the serial
-/// layout, particles sorted by id within each material; a restart on any rank count reads each
-/// rank's part of the rows), but the outflow record is gathered to rank 0; no velocity-driven
-/// bodies; every rank builds the full scene and keeps its particles (memory of the set-up is not
-/// distributed); slabs only (ORB boxes would cut the surface/volume ratio of the halo at high
-/// rank counts).
+/// (Done: snapshots, the outflow file, checkpoints and the last good state of a failure are
+/// written by every rank together with collective parallel HDF5, snapshot_mpi.hpp and
+/// checkpoint_mpi.hpp, in the serial layout; a restart on any rank count reads each rank's part
+/// of the rows.) No velocity-driven bodies; every rank builds the full scene and keeps its
+/// particles (memory of the set-up is not distributed); slabs only (ORB boxes would cut the
+/// surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
 
@@ -146,10 +145,11 @@ struct Layout {
   std::vector<double> outflow_totals;  ///< per rank: totals of its removed particles (pack_totals)
 };
 
-/// The outflow records of every rank on one (DomainSolver::gather_outflow, outflow_mpi.cpp):
-/// the removed particles sorted by (removal time, id), their removal times and output state
-/// fields (merged by name; `init`: each field's initial value), the totals of the removed
-/// particles (rank partials summed in rank order) and each rank's partial (pack_totals, rank-major).
+/// An outflow record (outflow_mpi.cpp): removed particles, their removal times and output state
+/// fields merged over the ranks by name (`init`: each field's initial value), the totals of the
+/// removed particles (rank partials summed in rank order) and each rank's partial (pack_totals,
+/// rank-major). DomainSolver::local_outflow: this rank's particles, in its order;
+/// gather_outflow: every rank's on one, sorted by (removal time, id).
 struct OutflowRecord {
   ParticleSet ps;
   std::vector<double> time;
@@ -183,6 +183,11 @@ class DomainSolver {
   /// All particles on `root` (sorted by id within each material, material ranges contiguous);
   /// other ranks get empty sets (collective). `layout` (root): where each came from.
   void gather(int root, ParticleSet& ps, std::vector<MaterialSlot>& mats, Layout* layout = nullptr);
+  /// This rank's outflow record with the field list merged over every rank (the same names,
+  /// units and order on every rank; a field this rank's particles lack holds its initial value),
+  /// and the totals on every rank (collective): what the collective outflow file and checkpoint
+  /// write, the rows sorted by (removal time, id) across the ranks (outflow_key).
+  OutflowRecord local_outflow();
   /// Every rank's outflow record on `root` (empty elsewhere; collective).
   OutflowRecord gather_outflow(int root);
   /// Imbalance max_r N_r / mean_r N_r (collective).

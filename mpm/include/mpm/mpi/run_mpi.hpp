@@ -3,8 +3,8 @@
 /// scene, over DomainSolver (domain.hpp), with the serial driver's outputs and failure paths.
 /// - Files: snapshots and checkpoints written by every rank together with collective parallel
 ///   HDF5 (the serial layout, particles sorted by id within each material); series.csv rows and
-///   progress lines from rank 0 (global diagnostics); the outflow file from every rank's record
-///   gathered to rank 0. Checkpoints periodic, at the end and on SIGTERM/SIGINT; --restart from a
+///   progress lines from rank 0 (global diagnostics); the outflow file written by every rank
+///   together from its own record (snapshot_mpi.hpp). Checkpoints periodic, at the end and on SIGTERM/SIGINT; --restart from a
 ///   checkpoint of any rank count (checkpoint_mpi.hpp).
 /// - Run directory (run_directory.hpp), held by rank 0: output.directory is locked for the run
 ///   (a second run into it exits 2), every rank writes into its staging directory, and rank 0
