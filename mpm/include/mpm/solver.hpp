@@ -81,6 +81,9 @@ struct Subdomain {
   Eigen::Vector3i lo = Eigen::Vector3i::Zero();     ///< global index of local node (0,0,0)
   Eigen::Vector3i shape = Eigen::Vector3i::Zero();  ///< local nodes per axis
   GridExchange* exchange = nullptr;                 ///< completes shared nodes, global reductions
+  /// The node planes [own_lo, own_hi) (global) along axis own_axis that this process owns, for
+  /// sums over nodes that count each node once (drive reactions); own_axis < 0: every node held.
+  int own_axis = -1, own_lo = 0, own_hi = 0;
 };
 
 /// Stress-update order.
@@ -374,6 +377,14 @@ class GridExchange {
   virtual void sum_shared(Solver::Node* nodes, int fields) = 0;
   /// Element-wise maximum over all processes of v[0..n), in place.
   virtual void max(double* v, int n) = 0;
+  /// Element-wise sum over all processes of v[0..n), in place, the same bits on every process
+  /// (a fixed order of the processes).
+  virtual void sum(double* v, int n) = 0;
+  /// Velocity drives (body_drive.hpp): make node_drive (per local node, the index of the drive
+  /// constraining it or -1) the same on every process that holds the node, the smallest
+  /// non-negative value of the processes; append to `added` each local node that had -1 here and
+  /// now has a drive.
+  virtual void min_shared_drive(std::int32_t* node_drive, std::vector<std::size_t>& added) = 0;
 };
 
 }  // namespace mpmfrag

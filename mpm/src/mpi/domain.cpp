@@ -40,8 +40,6 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
 }
 
 void DomainSolver::init_slabs(const Setup& setup) {
-  if (!setup.drives.empty())
-    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
   slabs_.axis = 0;
   for (int d = 1; d < 3; ++d)
     if (grid_.shape[d] > grid_.shape[slabs_.axis]) slabs_.axis = d;
@@ -54,6 +52,7 @@ void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vecto
   Subdomain box = slabs_.box(comm_.rank, grid_);
   box.exchange = halo_.get();
   solver_ = std::make_unique<Solver>(setup.solver, grid_, std::move(mine), std::move(mats), box);
+  solver_->set_drives(setup.drives);  // collective: the drives' masses summed over the ranks
 }
 
 int DomainSolver::cell(double x) const { return cell_of(grid_, slabs_.axis, x); }

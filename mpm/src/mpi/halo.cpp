@@ -5,6 +5,8 @@
 ///   X_i = X_i^(r) + X_i^(r')   (m_i, (m v)_i and/or f_i),
 /// the same bits on both ranks (a single IEEE addition is commutative). The two overlaps of a
 /// rank are disjoint (slabs are at least 2H planes wide), so the two swaps are independent.
+/// The velocity drives' node flags are swapped over the same planes (min_shared_drive), and
+/// sum() is the drives' reduction of their reaction impulses.
 #include <algorithm>
 
 #include "mpm/mpi/domain.hpp"
@@ -18,63 +20,110 @@ struct FieldRange {
 };
 constexpr FieldRange kFields[3] = {{1, 0, 1}, {2, 1, 3}, {4, 4, 3}};
 static_assert(sizeof(Solver::Node) == 8 * sizeof(double));
+
+/// Visit the local indices of the nodes of global planes [p0, p1) along axis a of `box`, in
+/// memory order.
+template <class F>
+void for_planes(const Subdomain& box, int a, int p0, int p1, F&& f) {
+  int lo[3] = {0, 0, 0}, hi[3] = {box.shape[0], box.shape[1], box.shape[2]};
+  lo[a] = p0 - box.lo[a];
+  hi[a] = p1 - box.lo[a];
+  const std::size_t sx = static_cast<std::size_t>(box.shape[0]), sy = static_cast<std::size_t>(box.shape[1]);
+  for (int k = lo[2]; k < hi[2]; ++k)
+    for (int j = lo[1]; j < hi[1]; ++j)
+      for (int i = lo[0]; i < hi[0]; ++i)
+        f(static_cast<std::size_t>(i) + sx * (static_cast<std::size_t>(j) + sy * static_cast<std::size_t>(k)));
+}
 }  // namespace
 
+bool HaloExchange::overlap(int s, int& p0, int& p1) const {
+  const int r = comm_.rank, nb = s == 0 ? r - 1 : r + 1;
+  if (nb < 0 || nb >= comm_.size) return false;
+  const int P = slabs_.cut[s == 0 ? r : r + 1], H = slabs_.halo;
+  p0 = std::max(P - H, 0);
+  p1 = std::min(P + H, grid_.shape[slabs_.axis]);
+  return true;
+}
+
 void HaloExchange::sum_shared(Solver::Node* nodes, int fields) {
-  const int r = comm_.rank, R = comm_.size;
-  if (R == 1) return;
-  const int a = slabs_.axis, H = slabs_.halo;
+  const int r = comm_.rank;
+  if (comm_.size == 1) return;
+  const int a = slabs_.axis;
   const Subdomain box = slabs_.box(r, grid_);
-  // the overlap with neighbour side s (0: r-1, 1: r+1) in global planes [p0, p1)
-  auto overlap = [&](int s, int& p0, int& p1) {
-    const int P = slabs_.cut[s == 0 ? r : r + 1];
-    p0 = std::max(P - H, 0);
-    p1 = std::min(P + H, grid_.shape[a]);
-  };
-  // visit the nodes of planes [p0, p1) of the box in memory order
-  auto for_nodes = [&](int p0, int p1, auto&& f) {
-    int lo[3] = {0, 0, 0}, hi[3] = {box.shape[0], box.shape[1], box.shape[2]};
-    lo[a] = p0 - box.lo[a];
-    hi[a] = p1 - box.lo[a];
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        for (int i = lo[0]; i < hi[0]; ++i)
-          f(reinterpret_cast<double*>(nodes + (static_cast<std::size_t>(i) +
-                                               static_cast<std::size_t>(box.shape[0]) *
-                                                   (static_cast<std::size_t>(j) + static_cast<std::size_t>(box.shape[1]) * k))));
-  };
+  auto node = [&](std::size_t i) { return reinterpret_cast<double*>(nodes + i); };
   MPI_Request req[4];
   int nreq = 0;
   for (int s = 0; s < 2; ++s) {
-    const int nb = s == 0 ? r - 1 : r + 1;
-    if (nb < 0 || nb >= R) continue;
     int p0, p1;
-    overlap(s, p0, p1);
+    if (!overlap(s, p0, p1)) continue;
     std::vector<double>& out = send_[s];
     out.clear();
-    for_nodes(p0, p1, [&](const double* nd) {
+    for_planes(box, a, p0, p1, [&](std::size_t i) {
+      const double* nd = node(i);
       for (const FieldRange& f : kFields)
         if (fields & f.bit) out.insert(out.end(), nd + f.offset, nd + f.offset + f.n);
     });
     recv_[s].resize(out.size());
     bytes_sent += 8.0 * out.size();
     comm_.bytes_sent += 8.0 * out.size();
+    const int nb = s == 0 ? r - 1 : r + 1;
     MPI_Irecv(recv_[s].data(), static_cast<int>(out.size()), MPI_DOUBLE, nb, 71, comm_.c, &req[nreq++]);
     MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, nb, 71, comm_.c, &req[nreq++]);
   }
   MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
   for (int s = 0; s < 2; ++s) {
-    const int nb = s == 0 ? r - 1 : r + 1;
-    if (nb < 0 || nb >= R) continue;
     int p0, p1;
-    overlap(s, p0, p1);
+    if (!overlap(s, p0, p1)) continue;
     const double* in = recv_[s].data();
-    for_nodes(p0, p1, [&](double* nd) {
+    for_planes(box, a, p0, p1, [&](std::size_t i) {
+      double* nd = node(i);
       for (const FieldRange& f : kFields)
         if (fields & f.bit)
           for (int c = 0; c < f.n; ++c) nd[f.offset + c] += *in++;
     });
   }
+}
+
+void HaloExchange::min_shared_drive(std::int32_t* node_drive, std::vector<std::size_t>& added) {
+  const int r = comm_.rank;
+  if (comm_.size == 1) return;
+  const int a = slabs_.axis;
+  const Subdomain box = slabs_.box(r, grid_);
+  MPI_Request req[4];
+  int nreq = 0;
+  for (int s = 0; s < 2; ++s) {
+    int p0, p1;
+    if (!overlap(s, p0, p1)) continue;
+    std::vector<std::int32_t>& out = isend_[s];
+    out.clear();
+    for_planes(box, a, p0, p1, [&](std::size_t i) { out.push_back(node_drive[i]); });
+    irecv_[s].resize(out.size());
+    bytes_sent += 4.0 * out.size();
+    comm_.bytes_sent += 4.0 * out.size();
+    const int nb = s == 0 ? r - 1 : r + 1;
+    MPI_Irecv(irecv_[s].data(), static_cast<int>(out.size()), MPI_INT32_T, nb, 72, comm_.c, &req[nreq++]);
+    MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_INT32_T, nb, 72, comm_.c, &req[nreq++]);
+  }
+  MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
+  for (int s = 0; s < 2; ++s) {
+    int p0, p1;
+    if (!overlap(s, p0, p1)) continue;
+    const std::int32_t* in = irecv_[s].data();
+    for_planes(box, a, p0, p1, [&](std::size_t i) {
+      const std::int32_t theirs = *in++;
+      std::int32_t& mine = node_drive[i];
+      if (theirs < 0 || (mine >= 0 && mine <= theirs)) return;
+      if (mine < 0) added.push_back(i);
+      mine = theirs;
+    });
+  }
+}
+
+void HaloExchange::sum(double* v, int n) {
+  const std::vector<double> all = comm_.allgather(v, n);
+  for (int k = 0; k < n; ++k) v[k] = 0.0;
+  for (int q = 0; q < comm_.size; ++q)
+    for (int k = 0; k < n; ++k) v[k] += all[static_cast<std::size_t>(q) * n + k];
 }
 
 }  // namespace mpmfrag::mpi

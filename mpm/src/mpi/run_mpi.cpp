@@ -134,9 +134,11 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     reported_out = n;
   };
   const std::string series_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_series.csv")).string();
+  std::vector<std::size_t> drive_bodies;  // [[body]] drive.*: the load columns (the same on every rank)
+  for (const BodyDrive& d : st.drives) drive_bodies.push_back(d.body);
   std::unique_ptr<SeriesWriter> series;
   if (rank == 0)
-    series = std::make_unique<SeriesWriter>(series_path, std::vector<std::size_t>{},
+    series = std::make_unique<SeriesWriter>(series_path, drive_bodies,
                                             restart.empty() ? std::nullopt : std::optional<std::string>(std::move(drv.series)));
   drv.series.clear();
   auto commit_series = [&]() {  // rank 0's file; a failure there fails every rank alike
@@ -155,7 +157,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   if (restart.empty()) {
     dom.initialize();
     drv.initial = dom.diagnostics();
-    if (series) series->write(0, 0.0, 0.0, drv.initial, {});
+    if (series) series->write(0, 0.0, 0.0, drv.initial, dom.local().drive_loads());
     write_snap();
     drv.next_snapshot = rc.snapshot_interval > 0 ? rc.snapshot_interval : rc.t_end;
     drv.first_dt = dom.stable_dt();
@@ -189,7 +191,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       const bool at_end = dom.time() >= rc.t_end * (1 - 1e-12);
       if (dom.step_count() % rc.series_every == 0 || at_end || at_snap) {
         const Diagnostics d = dom.diagnostics();
-        if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
+        if (series) series->write(dom.step_count(), dom.time(), dt, d, dom.local().drive_loads());
         if (rank == 0) progress.update(dom.step_count(), dom.time(), dt, E0 != 0 ? (d.total() - E0) / std::fabs(E0) : 0.0);
       }
       if (at_snap) {
@@ -223,7 +225,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     const std::string path = write_failed(comm.all(f.state_intact));
     write_outflow();
     const Diagnostics d = dom.diagnostics();
-    if (series) series->write(dom.step_count(), dom.time(), dt, d, {});
+    if (series) series->write(dom.step_count(), dom.time(), dt, d, dom.local().drive_loads());
     commit_series();  // the series up to the failure, in the staging directory
     if (rank == 0) spdlog::error("last good state saved to {}", path.empty() ? "(none)" : path);
     throw common::NumericalError(std::string(f.what()), path);

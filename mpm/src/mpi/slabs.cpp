@@ -23,6 +23,9 @@ Subdomain Slabs::box(int r, const common::GridInfo& g) const {
   const int lo = std::max(0, cut[r] - halo), hi = std::min(g.shape[axis], cut[r + 1] + halo);
   s.lo[axis] = lo;
   s.shape[axis] = hi - lo;
+  s.own_axis = axis;
+  s.own_lo = cut[r];
+  s.own_hi = cut[r + 1];
   return s;
 }
 

@@ -11,6 +11,13 @@
 ///
 /// The node lists are built serially in particle index order, and every sum runs over them in
 /// that order, so the loads do not depend on the thread count.
+///
+/// On MPI ranks (a Subdomain with an exchange): M_k is summed over the ranks; after the local
+/// flags the ranks make the flags of their shared nodes agree (GridExchange::min_shared_drive:
+/// a node reached only by a neighbour's particle of the body is constrained here as well, so
+/// owner and ghost keep identical values); each rank sums the reaction over the constrained nodes
+/// it owns (Subdomain::own_*), and the ranks' partial impulses are summed in rank order (one
+/// reduction per step), so every rank holds the same J_k and the same load history.
 #include <string>
 
 #include "kernels.hpp"
@@ -24,8 +31,6 @@ constexpr double kMinWeight = 1e-9;
 }  // namespace
 
 void Solver::set_drives(std::vector<BodyDrive> drives) {
-  if (sub_.exchange && !drives.empty())
-    throw common::InputError("velocity-driven bodies ([[body]] drive.*) are not available on more than one MPI rank yet");
   for (std::size_t a = 0; a < drives.size(); ++a) {
     if (drives[a].id_end <= drives[a].id_begin)
       throw common::InputError("drive of body " + std::to_string(drives[a].body) + " holds no particle");
@@ -45,6 +50,7 @@ void Solver::set_drives(std::vector<BodyDrive> drives) {
     const int k = drive_of(ps_.id[p]);
     if (k >= 0) drive_mass_[k] += ps_.mass[p];
   }
+  if (sub_.exchange && nd > 0) sub_.exchange->sum(drive_mass_.data(), static_cast<int>(nd));  // collective
 }
 
 void Solver::drive_prepare() {
@@ -77,6 +83,7 @@ void Solver::drive_prepare() {
       }
     }
   }
+  if (sub_.exchange) sub_.exchange->min_shared_drive(node_drive_.data(), touched);  // collective
   if (drives_.size() > 1) {
     std::vector<std::size_t> all;
     all.swap(touched);
@@ -86,25 +93,43 @@ void Solver::drive_prepare() {
 
 void Solver::apply_drive(GridSlot which, double t, int record, double dt) {
   const Node::Slot3 slot = Node::slot(which);
+  // the nodes whose reaction this process counts: all, or on MPI ranks those it owns
+  const int a = sub_.own_axis;
+  const std::size_t sx = static_cast<std::size_t>(sub_.shape[0]), sxy = sx * static_cast<std::size_t>(sub_.shape[1]);
+  auto counted = [&](std::size_t i) {
+    if (a < 0) return true;
+    const std::size_t c = a == 0 ? i % sx : a == 1 ? (i / sx) % static_cast<std::size_t>(sub_.shape[1]) : i / sxy;
+    const int p = static_cast<int>(c) + sub_.lo[a];
+    return p >= sub_.own_lo && p < sub_.own_hi;
+  };
+  std::vector<double> partial;  // record 2: this process's part of each drive's impulse
   for (std::size_t k = 0; k < drives_.size(); ++k) {
     const Eigen::Vector3d vt = drives_[k].velocity_at(t);
     double sum[3] = {0.0, 0.0, 0.0};
     for (const std::size_t i : drive_nodes_[k]) {
       Node& n = nodes_[i];
       double* v = n.*slot;
+      const double m = counted(i) ? n.m : 0.0;
       for (int d = 0; d < 3; ++d) {
-        sum[d] += n.m * (vt[d] - v[d]);
+        sum[d] += m * (vt[d] - v[d]);
         v[d] = vt[d];
       }
     }
     const Eigen::Vector3d c(sum[0], sum[1], sum[2]);
     if (record == 1) drive_c1_[k] = c;
     if (record == 2) {
-      const Eigen::Vector3d J =
-          c + (1.0 - cfg_.flip) * drive_c1_[k] - drive_mass_[k] * (vt - drives_[k].velocity_at(time_));
-      drive_load_[k].force = J / dt;
-      drive_load_[k].impulse += J;
+      const Eigen::Vector3d j = c + (1.0 - cfg_.flip) * drive_c1_[k];
+      partial.insert(partial.end(), j.data(), j.data() + 3);
     }
+  }
+  if (record != 2 || drives_.empty()) return;
+  if (sub_.exchange) sub_.exchange->sum(partial.data(), static_cast<int>(partial.size()));  // collective
+  for (std::size_t k = 0; k < drives_.size(); ++k) {
+    const Eigen::Vector3d vt = drives_[k].velocity_at(t);
+    const Eigen::Vector3d J = Eigen::Vector3d(partial[3 * k], partial[3 * k + 1], partial[3 * k + 2]) -
+                              drive_mass_[k] * (vt - drives_[k].velocity_at(time_));
+    drive_load_[k].force = J / dt;
+    drive_load_[k].impulse += J;
   }
 }
 

@@ -65,6 +65,10 @@ void Solver::set_subdomain(const Subdomain& sub) {
   shift_ = static_cast<std::size_t>(sub_.lo[0]) + sx * (static_cast<std::size_t>(sub_.lo[1]) + sy * sub_.lo[2]);
   nodes_.assign(static_cast<std::size_t>(sub_.shape[0]) * sub_.shape[1] * sub_.shape[2], Node{});
   mom2_.clear();
+  if (!drives_.empty()) {  // the drives' node flags follow the box (drive_prepare fills them)
+    node_drive_.assign(nodes_.size(), -1);
+    for (std::vector<std::size_t>& list : drive_nodes_) list.clear();
+  }
   for (int d = 0; d < 3; ++d) nblocks_[d] = (sub_.shape[d] + kBlock - 1) / kBlock;
 }
 

@@ -19,7 +19,8 @@
 /// parallel HDF5's attributes require. The outflow records are sorted across the ranks by
 /// (removal time, id) too (DomainSolver::local_outflow, outflow_keys: each rank writes its block
 /// of /mpm_state/outflow, the field list merged over the ranks); rank 0 writes the series text
-/// while the other ranks join with no rows; drive loads do not exist on several ranks. A value
+/// while the other ranks join with no rows; the drives' loads are the same bits on every rank
+/// (their impulses summed in rank order, drive.cpp), attributes as on one rank. A value
 /// that is not finite on any rank throws NumericalError on every rank and writes nothing.
 ///
 /// Reading (collective): every rank opens the file and reads its own part of the rows

@@ -53,8 +53,8 @@
 /// (Done: snapshots, the outflow file, checkpoints and the last good state of a failure are
 /// written by every rank together with collective parallel HDF5, snapshot_mpi.hpp and
 /// checkpoint_mpi.hpp, in the serial layout; a restart on any rank count reads each rank's part
-/// of the rows.) No velocity-driven bodies; every rank builds the full scene and keeps its
-/// particles (memory of the set-up is not distributed); slabs only (ORB boxes would cut the
+/// of the rows; velocity-driven bodies, drive.cpp.) Every rank builds the full scene and keeps
+/// its particles (memory of the set-up is not distributed); slabs only (ORB boxes would cut the
 /// surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
@@ -105,6 +105,9 @@ class HaloExchange : public GridExchange {
   HaloExchange(Comm& comm, const Slabs& slabs, const common::GridInfo& grid) : comm_(comm), slabs_(slabs), grid_(grid) {}
   void sum_shared(Solver::Node* nodes, int fields) override;
   void max(double* v, int n) override { comm_.max(v, n); }
+  /// Rank order: every rank's values allgathered and added from rank 0 up.
+  void sum(double* v, int n) override;
+  void min_shared_drive(std::int32_t* node_drive, std::vector<std::size_t>& added) override;
   double bytes_sent = 0;
 
  private:
@@ -112,6 +115,10 @@ class HaloExchange : public GridExchange {
   const Slabs& slabs_;
   const common::GridInfo& grid_;
   std::vector<double> send_[2], recv_[2];
+  std::vector<std::int32_t> isend_[2], irecv_[2];
+  /// The overlap with neighbour side s (0: rank - 1, 1: rank + 1) in global planes [p0, p1) of
+  /// the split axis; false if there is no such neighbour.
+  bool overlap(int s, int& p0, int& p1) const;
 };
 
 /// The particles of `ps` with keep[p] != 0, materials kept contiguous (state arrays included).
@@ -163,7 +170,7 @@ struct OutflowRecord {
 class DomainSolver {
  public:
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
-  /// slab. Collective. Throws common::InputError (drives, outflow removal, too many ranks).
+  /// slab. Collective. Throws common::InputError (too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
   /// Restart (checkpoint_mpi.cpp): each rank's `setup` holds its part of a checkpoint's
   /// particles and materials' state (file rows [layout.first, ...), in file order; any split of

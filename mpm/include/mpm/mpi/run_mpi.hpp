@@ -2,8 +2,9 @@
 /// The mpm-frag driver on more than one MPI rank (SUITE_MPI=ON; one rank runs run_mpm): the same
 /// scene, over DomainSolver (domain.hpp), with the serial driver's outputs and failure paths.
 /// - Files: snapshots and checkpoints written by every rank together with collective parallel
-///   HDF5 (the serial layout, particles sorted by id within each material); series.csv rows and
-///   progress lines from rank 0 (global diagnostics); the outflow file written by every rank
+///   HDF5 (the serial layout, particles sorted by id within each material); series.csv rows (with
+///   the driven bodies' load columns, the same on every rank) and progress lines from rank 0
+///   (global diagnostics); the outflow file written by every rank
 ///   together from its own record (snapshot_mpi.hpp). Checkpoints periodic, at the end and on SIGTERM/SIGINT; --restart from a
 ///   checkpoint of any rank count (checkpoint_mpi.hpp).
 /// - Run directory (run_directory.hpp), held by rank 0: output.directory is locked for the run
