@@ -45,78 +45,74 @@ bool HaloExchange::overlap(int s, int& p0, int& p1) const {
   return true;
 }
 
-void HaloExchange::sum_shared(Solver::Node* nodes, int fields) {
+template <class T, class Pack, class Unpack>
+void HaloExchange::swap_overlaps(std::vector<T> (&send)[2], std::vector<T> (&recv)[2], MPI_Datatype type, int tag,
+                                 Pack&& pack, Unpack&& unpack) {
   const int r = comm_.rank;
-  if (comm_.size == 1) return;
-  const int a = slabs_.axis;
-  const Subdomain box = slabs_.box(r, grid_);
-  auto node = [&](std::size_t i) { return reinterpret_cast<double*>(nodes + i); };
   MPI_Request req[4];
   int nreq = 0;
   for (int s = 0; s < 2; ++s) {
     int p0, p1;
     if (!overlap(s, p0, p1)) continue;
-    std::vector<double>& out = send_[s];
-    out.clear();
-    for_planes(box, a, p0, p1, [&](std::size_t i) {
-      const double* nd = node(i);
-      for (const FieldRange& f : kFields)
-        if (fields & f.bit) out.insert(out.end(), nd + f.offset, nd + f.offset + f.n);
-    });
-    recv_[s].resize(out.size());
-    bytes_sent += 8.0 * out.size();
-    comm_.bytes_sent += 8.0 * out.size();
-    const int nb = s == 0 ? r - 1 : r + 1;
-    MPI_Irecv(recv_[s].data(), static_cast<int>(out.size()), MPI_DOUBLE, nb, 71, comm_.c, &req[nreq++]);
-    MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_DOUBLE, nb, 71, comm_.c, &req[nreq++]);
+    send[s].clear();
+    pack(p0, p1, send[s]);
+    recv[s].resize(send[s].size());  // the neighbour holds the same planes: as many values
+    const double bytes = static_cast<double>(sizeof(T) * send[s].size());
+    bytes_sent += bytes;
+    comm_.bytes_sent += bytes;
+    const int nb = s == 0 ? r - 1 : r + 1, n = static_cast<int>(send[s].size());
+    MPI_Irecv(recv[s].data(), n, type, nb, tag, comm_.c, &req[nreq++]);
+    MPI_Isend(send[s].data(), n, type, nb, tag, comm_.c, &req[nreq++]);
   }
   MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
   for (int s = 0; s < 2; ++s) {
     int p0, p1;
-    if (!overlap(s, p0, p1)) continue;
-    const double* in = recv_[s].data();
-    for_planes(box, a, p0, p1, [&](std::size_t i) {
-      double* nd = node(i);
-      for (const FieldRange& f : kFields)
-        if (fields & f.bit)
-          for (int c = 0; c < f.n; ++c) nd[f.offset + c] += *in++;
-    });
+    if (overlap(s, p0, p1)) unpack(p0, p1, recv[s].data());
   }
 }
 
-void HaloExchange::min_shared_drive(std::int32_t* node_drive, std::vector<std::size_t>& added) {
-  const int r = comm_.rank;
+void HaloExchange::sum_shared(Solver::Node* nodes, int fields) {
   if (comm_.size == 1) return;
   const int a = slabs_.axis;
-  const Subdomain box = slabs_.box(r, grid_);
-  MPI_Request req[4];
-  int nreq = 0;
-  for (int s = 0; s < 2; ++s) {
-    int p0, p1;
-    if (!overlap(s, p0, p1)) continue;
-    std::vector<std::int32_t>& out = isend_[s];
-    out.clear();
-    for_planes(box, a, p0, p1, [&](std::size_t i) { out.push_back(node_drive[i]); });
-    irecv_[s].resize(out.size());
-    bytes_sent += 4.0 * out.size();
-    comm_.bytes_sent += 4.0 * out.size();
-    const int nb = s == 0 ? r - 1 : r + 1;
-    MPI_Irecv(irecv_[s].data(), static_cast<int>(out.size()), MPI_INT32_T, nb, 72, comm_.c, &req[nreq++]);
-    MPI_Isend(out.data(), static_cast<int>(out.size()), MPI_INT32_T, nb, 72, comm_.c, &req[nreq++]);
-  }
-  MPI_Waitall(nreq, req, MPI_STATUSES_IGNORE);
-  for (int s = 0; s < 2; ++s) {
-    int p0, p1;
-    if (!overlap(s, p0, p1)) continue;
-    const std::int32_t* in = irecv_[s].data();
-    for_planes(box, a, p0, p1, [&](std::size_t i) {
-      const std::int32_t theirs = *in++;
-      std::int32_t& mine = node_drive[i];
-      if (theirs < 0 || (mine >= 0 && mine <= theirs)) return;
-      if (mine < 0) added.push_back(i);
-      mine = theirs;
-    });
-  }
+  const Subdomain box = slabs_.box(comm_.rank, grid_);
+  auto node = [&](std::size_t i) { return reinterpret_cast<double*>(nodes + i); };
+  swap_overlaps(
+      send_, recv_, MPI_DOUBLE, 71,
+      [&](int p0, int p1, std::vector<double>& out) {
+        for_planes(box, a, p0, p1, [&](std::size_t i) {
+          const double* nd = node(i);
+          for (const FieldRange& f : kFields)
+            if (fields & f.bit) out.insert(out.end(), nd + f.offset, nd + f.offset + f.n);
+        });
+      },
+      [&](int p0, int p1, const double* in) {
+        for_planes(box, a, p0, p1, [&](std::size_t i) {
+          double* nd = node(i);
+          for (const FieldRange& f : kFields)
+            if (fields & f.bit)
+              for (int c = 0; c < f.n; ++c) nd[f.offset + c] += *in++;
+        });
+      });
+}
+
+void HaloExchange::min_shared_drive(std::int32_t* node_drive, std::vector<std::size_t>& added) {
+  if (comm_.size == 1) return;
+  const int a = slabs_.axis;
+  const Subdomain box = slabs_.box(comm_.rank, grid_);
+  swap_overlaps(
+      isend_, irecv_, MPI_INT32_T, 72,
+      [&](int p0, int p1, std::vector<std::int32_t>& out) {
+        for_planes(box, a, p0, p1, [&](std::size_t i) { out.push_back(node_drive[i]); });
+      },
+      [&](int p0, int p1, const std::int32_t* in) {
+        for_planes(box, a, p0, p1, [&](std::size_t i) {
+          const std::int32_t theirs = *in++;
+          std::int32_t& mine = node_drive[i];
+          if (theirs < 0 || (mine >= 0 && mine <= theirs)) return;
+          if (mine < 0) added.push_back(i);
+          mine = theirs;
+        });
+      });
 }
 
 void HaloExchange::sum(double* v, int n) {

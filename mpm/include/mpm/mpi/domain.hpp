@@ -119,6 +119,12 @@ class HaloExchange : public GridExchange {
   /// The overlap with neighbour side s (0: rank - 1, 1: rank + 1) in global planes [p0, p1) of
   /// the split axis; false if there is no such neighbour.
   bool overlap(int s, int& p0, int& p1) const;
+  /// With each neighbour: pack(p0, p1, out) fills what goes to it from the overlap's planes, the
+  /// neighbour's values come back (as many: it holds the same planes) and unpack(p0, p1, in)
+  /// reads them (halo.cpp).
+  template <class T, class Pack, class Unpack>
+  void swap_overlaps(std::vector<T> (&send)[2], std::vector<T> (&recv)[2], MPI_Datatype type, int tag, Pack&& pack,
+                     Unpack&& unpack);
 };
 
 /// The particles of `ps` with keep[p] != 0, materials kept contiguous (state arrays included).
