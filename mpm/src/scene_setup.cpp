@@ -25,6 +25,7 @@ struct Gen {
   Eigen::Vector3d x, v;
   double V, m, lp;
   int mat;
+  std::uint64_t id;  ///< generation order over every body (the same with or without a part)
 };
 
 enum class BodyShape { sphere, box, cylinder };
@@ -206,7 +207,7 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   return s;
 }
 
-Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
+Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg, const SetupPart* part) {
   Setup st;
   SolverConfig& c = st.solver;
   c.shape = sc.choice("solver.shape", kShapeKinds);
@@ -267,6 +268,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
 
   // bodies -> particles (generation order = id order), then grouped by material
   std::vector<Gen> gen;
+  std::uint64_t next_id = 0;
   std::vector<BodyPrimitive> prims;
   std::vector<BodyDrive> drives;
   const std::size_t nb = sc.count("body");
@@ -293,18 +295,27 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
       c0[d] = static_cast<int>(std::floor((pr.lo[d] - lo[d]) / h)) - 1;
       c1[d] = static_cast<int>(std::ceil((pr.hi[d] - lo[d]) / h)) + 1;
     }
-    const std::size_t first = gen.size();
-    for (int k = c0[2] * ppc; k < c1[2] * ppc; ++k)
-      for (int j = c0[1] * ppc; j < c1[1] * ppc; ++j)
-        for (int ii = c0[0] * ppc; ii < c1[0] * ppc; ++ii) {
-          const Eigen::Vector3d x = lo + dx * Eigen::Vector3d(ii + 0.5, j + 0.5, k + 0.5);
-          if (lattice_owner(prims, pr, x, tol, where) == static_cast<int>(prims.size()))
-            gen.push_back({x, Eigen::Vector3d::Zero(), V, rho * V, 0.5 * dx, mat});
-        }
-    const std::size_t count = gen.size() - first;
+    // the body's lattice points (owned by no earlier body), in id order
+    auto for_points = [&](auto&& f) {
+      for (int k = c0[2] * ppc; k < c1[2] * ppc; ++k)
+        for (int j = c0[1] * ppc; j < c1[1] * ppc; ++j)
+          for (int ii = c0[0] * ppc; ii < c1[0] * ppc; ++ii) {
+            const Eigen::Vector3d x = lo + dx * Eigen::Vector3d(ii + 0.5, j + 0.5, k + 0.5);
+            if (lattice_owner(prims, pr, x, tol, where) == static_cast<int>(prims.size())) f(x);
+          }
+    };
+    // pass 1: count and lattice centre (nothing stored: a part of a distributed set-up keeps
+    // only its own particles, pass 2)
+    std::size_t count = 0;
+    Eigen::Vector3d com = Eigen::Vector3d::Zero();
+    for_points([&](const Eigen::Vector3d& x) {
+      ++count;
+      com += x;
+    });
     if (count == 0) throw common::InputError(where, "", "body contains no particle (smaller than a particle spacing?)");
+    const std::uint64_t first = next_id;
     if (b.boolean("drive.enabled"))
-      drives.push_back({i, gen.size() - count, gen.size(), b.vec3("drive.velocity"), b.real("drive.ramp_time")});
+      drives.push_back({i, first, first + count, b.vec3("drive.velocity"), b.real("drive.ramp_time")});
     BodyInfo& bi = st.bodies[i];
     bi.name = b.string("name");
     bi.particles = count;
@@ -312,32 +323,32 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
     bi.lattice_mass = rho * V * static_cast<double>(count);
     bi.center = pr.center;
     bi.exact = b.boolean("exact");
-    Eigen::Vector3d com = Eigen::Vector3d::Zero();
-    for (std::size_t g = first; g < gen.size(); ++g) com += gen[g].x;
     com /= static_cast<double>(count);
     bi.lattice_center = com;
-    if (bi.exact) {
-      // Exact body: every particle's mass AND volume scaled by M/(n rho V) (the density stays rho0,
-      // so the initial state is stress-free), the lattice shifted by less than dx/2 so that the
-      // centre of mass is the primitive's centre.
-      const double scale = bi.nominal_mass / bi.lattice_mass;
-      const Eigen::Vector3d shift = pr.center - com;
-      for (std::size_t g = first; g < gen.size(); ++g) {
-        gen[g].x += shift;
-        gen[g].V *= scale;
-        gen[g].m *= scale;
-      }
-    }
+    // Exact body: every particle's mass AND volume scaled by M/(n rho V) (the density stays rho0,
+    // so the initial state is stress-free), the lattice shifted by less than dx/2 so that the
+    // centre of mass is the primitive's centre.
+    const double scale = bi.nominal_mass / bi.lattice_mass;
+    const Eigen::Vector3d shift = pr.center - com;
     const bool driven = b.boolean("drive.enabled");  // a driven body starts at v_T(0)
     const Eigen::Vector3d v0 = driven ? drives.back().velocity_at(0.0) : b.vec3("velocity");
     const Eigen::Vector3d w = driven ? Eigen::Vector3d::Zero() : b.vec3("angular_velocity");
     double mass = 0;
     Eigen::Vector3d mx = Eigen::Vector3d::Zero();
-    for (std::size_t g = first; g < gen.size(); ++g) {
-      gen[g].v = v0 + w.cross(gen[g].x - pr.center);
-      mass += gen[g].m;
-      mx += gen[g].m * gen[g].x;
-    }
+    // pass 2: every particle's final state (the body's totals); the part's particles stored
+    for_points([&](const Eigen::Vector3d& x) {
+      Gen q{x, Eigen::Vector3d::Zero(), V, rho * V, 0.5 * dx, mat, next_id++};
+      if (bi.exact) {
+        q.x += shift;
+        q.V *= scale;
+        q.m *= scale;
+      }
+      q.v = v0 + w.cross(q.x - pr.center);
+      mass += q.m;
+      mx += q.m * q.x;
+      if (part && part->each) part->each(q.x);
+      if (!part || (part->keep && part->keep(q.x))) gen.push_back(q);
+    });
     bi.mass = mass;
     bi.mass_center = mx / mass;
     bi.velocity = v0;
@@ -350,7 +361,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg) {
     slots[m].begin = p;
     for (std::size_t g = 0; g < gen.size(); ++g) {
       if (gen[g].mat != static_cast<int>(m)) continue;
-      ps.id[p] = g;
+      ps.id[p] = gen[g].id;
       ps.material[p] = static_cast<std::int32_t>(m);
       for (int d = 0; d < 3; ++d) {
         ps.x[3 * p + d] = gen[g].x[d];

@@ -108,7 +108,18 @@ struct Setup {
 /// The full mpm-frag schema (material styles from `reg`).
 common::Schema mpm_schema(const MaterialRegistry& reg = builtin_materials());
 
-/// Build the setup; throws common::InputError naming the key on bad input.
-Setup build_setup(const common::Scene& scene, const MaterialRegistry& reg = builtin_materials());
+/// Part of the particles, for a set-up distributed over MPI ranks (mpi/domain.hpp): every body's
+/// lattice is generated and the bodies' totals, ids and drives are the whole scene's, but only
+/// the particles whose final position x satisfies keep(x) are stored; each(x) (if set) sees
+/// every particle's final position, kept or not, in id order.
+struct SetupPart {
+  std::function<bool(const Eigen::Vector3d&)> keep;
+  std::function<void(const Eigen::Vector3d&)> each;
+};
+
+/// Build the setup (with `part`: only that part of the particles); throws common::InputError
+/// naming the key on bad input.
+Setup build_setup(const common::Scene& scene, const MaterialRegistry& reg = builtin_materials(),
+                  const SetupPart* part = nullptr);
 
 }  // namespace mpmfrag

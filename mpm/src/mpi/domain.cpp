@@ -21,6 +21,16 @@ int cell_of(const common::GridInfo& g, int a, double x) {
   const double c = std::floor(xi);
   return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(g.shape[a] - 1)));
 }
+/// The split axis (the grid's longest), the halo and the narrowest slab (domain.hpp), no cuts.
+Slabs slab_layout(const common::GridInfo& grid, int ghost_layers) {
+  Slabs s;
+  s.axis = 0;
+  for (int d = 1; d < 3; ++d)
+    if (grid.shape[d] > grid.shape[s.axis]) s.axis = d;
+  s.halo = 2;
+  s.min_width = std::max({2 * s.halo, 2 * ghost_layers + 1 - s.halo, 1});
+  return s;
+}
 }  // namespace
 
 DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
@@ -39,13 +49,39 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
   build_solver(setup, std::move(mine), std::move(mats));
 }
 
-void DomainSolver::init_slabs(const Setup& setup) {
-  slabs_.axis = 0;
-  for (int d = 1; d < 3; ++d)
-    if (grid_.shape[d] > grid_.shape[slabs_.axis]) slabs_.axis = d;
-  slabs_.halo = 2;
-  slabs_.min_width = std::max({2 * slabs_.halo, 2 * setup.solver.ghost_layers + 1 - slabs_.halo, 1});
+DomainSolver::DomainSolver(MPI_Comm comm, const Setup& mine, const std::vector<int>& cut, DomainOptions opt)
+    : comm_(comm), opt_(opt), grid_(mine.grid) {
+  init_slabs(mine);
+  if (cut.size() != static_cast<std::size_t>(comm_.size) + 1)
+    throw std::logic_error("DomainSolver: " + std::to_string(cut.size()) + " cuts for " + std::to_string(comm_.size) + " ranks");
+  slabs_.cut = cut;
+  for (std::size_t p = 0; p < mine.particles.size(); ++p)
+    if (slabs_.owner(cell_of(grid_, slabs_.axis, mine.particles.x[3 * p + slabs_.axis])) != comm_.rank)
+      throw std::logic_error("DomainSolver: a particle outside this rank's slab");
+  build_solver(mine, mine.particles, mine.materials);
 }
+
+std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  SetupPart none;  // the grid first (nothing stored)
+  const Setup shape = build_setup(scene, builtin_materials(), &none);
+  const common::GridInfo& g = shape.grid;
+  Slabs sl = slab_layout(g, shape.solver.ghost_layers);
+  const int axis = sl.axis;
+  // the particles per plane, every rank for itself (the same integers everywhere: no reduction)
+  std::vector<long long> count(g.shape[axis], 0);
+  SetupPart counting;
+  counting.each = [&](const Eigen::Vector3d& x) { ++count[cell_of(g, axis, x[axis])]; };
+  (void)build_setup(scene, builtin_materials(), &counting);
+  sl.cut = balanced_cuts(count, size, sl.min_width);
+  SetupPart mine;
+  if (particles) mine.keep = [&](const Eigen::Vector3d& x) { return sl.owner(cell_of(g, axis, x[axis])) == rank; };
+  return {build_setup(scene, builtin_materials(), &mine), sl.cut};
+}
+
+void DomainSolver::init_slabs(const Setup& setup) { slabs_ = slab_layout(grid_, setup.solver.ghost_layers); }
 
 void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats) {
   halo_ = std::make_unique<HaloExchange>(comm_, slabs_, grid_);

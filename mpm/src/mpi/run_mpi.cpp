@@ -38,7 +38,9 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   if (rank != 0) spdlog::set_level(spdlog::level::warn);
   check_memory(scene);
-  Setup st = build_setup(scene);
+  // every rank generates the scene and keeps its own slab's particles (none for a restart)
+  std::pair<Setup, std::vector<int>> part = distributed_setup(MPI_COMM_WORLD, scene, restart.empty());
+  Setup& st = part.first;
   Comm comm(MPI_COMM_WORLD);
   // Rank 0 locks output.directory and every rank writes into its staging directory, published
   // when the run completes (run_directory.hpp): a failed or interrupted run leaves the previous
@@ -71,7 +73,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
                  rd.layout.cut.empty() ? std::string("one rank") : std::to_string(rd.layout.cut.size() - 1),
                  domp->step_count(), domp->time());
   } else {
-    domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st);
+    domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, part.second);
   }
   DomainSolver& dom = *domp;
   long long ntot = static_cast<long long>(dom.local().particles().size());

@@ -172,12 +172,23 @@ struct OutflowRecord {
   std::vector<double> rank_totals;
 };
 
+/// Distributed set-up (collective; no rank holds every particle): every rank generates the
+/// scene's lattice itself (build_setup with a SetupPart), counts the particles per plane of the
+/// split axis (the cuts DomainSolver(comm, build_setup(scene)) would compute) and keeps the
+/// particles of its own slab, or none (`particles` false: a restart reads them). Returns the
+/// set-up and the cuts, for DomainSolver(comm, setup, cuts): the same particles in the same order
+/// on every rank as the full set-up.
+std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles = true);
+
 /// One rank's part of a distributed mpm-frag run.
 class DomainSolver {
  public:
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
   /// slab. Collective. Throws common::InputError (too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
+  /// Each rank passes the particles of its slab of the given cuts (distributed_setup).
+  /// Collective.
+  DomainSolver(MPI_Comm comm, const Setup& mine, const std::vector<int>& cut, DomainOptions opt = {});
   /// Restart (checkpoint_mpi.cpp): each rank's `setup` holds its part of a checkpoint's
   /// particles and materials' state (file rows [layout.first, ...), in file order; any split of
   /// the rows over the ranks, one rank holding all included). When `layout` says the file was

@@ -1,0 +1,95 @@
+/// @file test_mpm_mpi_setup.cpp
+/// The distributed set-up of mpm-frag on MPI ranks (label mpi; part of test_mpm_mpi): every rank
+/// generating the scene itself and keeping its own slab (distributed_setup) must give, on every
+/// rank, the same particles in the same order, the same material state arrays and the same cuts
+/// as the full set-up split by DomainSolver(comm, build_setup(scene)), bit for bit; and the
+/// bodies' totals (mass, centre of mass: exact bodies shifted and scaled over all their
+/// particles) and the drives' id ranges of the whole scene. Scene: a Tonge–Ramesh sphere and an
+/// elastic sphere (exact bodies, the default) and a driven platen.
+#include <gtest/gtest.h>
+
+#include "common/schema.hpp"
+#include "mpi_test_helpers.hpp"
+
+using namespace mpmfrag;
+using namespace mpmtest;
+
+namespace {
+
+const std::string kScene = R"(
+[grid]
+domain_min = [0.0, 0.0, 0.0]
+domain_max = [0.3, 0.1, 0.1]
+cell_size = 0.01
+[time]
+end = 1e-4
+)" + kRockAndSoft + R"(
+[[body]]
+material = "rock"
+shape = "sphere"
+center = [0.1, 0.05, 0.05]
+radius = 0.031
+velocity = [150.0, 0.0, 0.0]
+[[body]]
+material = "soft"
+shape = "sphere"
+center = [0.171, 0.05, 0.05]
+radius = 0.0123
+velocity = [-300.0, 0.0, 0.0]
+[[body]]
+material = "soft"
+shape = "box"
+min = [0.22, 0.02, 0.02]
+max = [0.28, 0.08, 0.08]
+drive.enabled = true
+drive.velocity = [-1.0, 0.0, 0.0]
+)";
+
+TEST(MpmMpi, DistributedSetupEqualsTheFullSetupSplit) {
+  static const common::Schema schema = mpm_schema();
+  const common::Scene scene = common::Scene::parse(schema, kScene, "setup-test");
+  const mpmfrag::Setup full = build_setup(scene);
+  DomainSolver a(MPI_COMM_WORLD, full);
+  const std::pair<mpmfrag::Setup, std::vector<int>> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
+  DomainSolver b(MPI_COMM_WORLD, part.first, part.second);
+  // on every rank: the same cuts, particles (every array, bit for bit) and material ranges
+  EXPECT_EQ(part.second, a.slabs().cut);
+  const ParticleSet &pa = a.local().particles(), &pb = b.local().particles();
+  ASSERT_EQ(pa.size(), pb.size());
+  ParticleSet::for_each_array([&](const auto& arr) { EXPECT_TRUE(pa.*arr.member == pb.*arr.member) << arr.info.name; });
+  ASSERT_EQ(a.local().materials().size(), b.local().materials().size());
+  for (std::size_t m = 0; m < a.local().materials().size(); ++m) {
+    const MaterialSlot &ma = a.local().materials()[m], &mb = b.local().materials()[m];
+    EXPECT_EQ(ma.begin, mb.begin);
+    EXPECT_EQ(ma.end, mb.end);
+    EXPECT_TRUE(ma.state == mb.state) << ma.name;
+  }
+  // the whole scene's bodies and drives on every rank
+  ASSERT_EQ(part.first.bodies.size(), full.bodies.size());
+  for (std::size_t i = 0; i < full.bodies.size(); ++i) {
+    EXPECT_EQ(part.first.bodies[i].particles, full.bodies[i].particles);
+    EXPECT_EQ(part.first.bodies[i].mass, full.bodies[i].mass);
+    EXPECT_EQ(part.first.bodies[i].mass_center, full.bodies[i].mass_center);
+    EXPECT_EQ(part.first.bodies[i].lattice_center, full.bodies[i].lattice_center);
+  }
+  ASSERT_EQ(part.first.drives.size(), 1u);
+  EXPECT_EQ(part.first.drives[0].id_begin, full.drives[0].id_begin);
+  EXPECT_EQ(part.first.drives[0].id_end, full.drives[0].id_end);
+  long long n[2] = {static_cast<long long>(pb.size()), static_cast<long long>(part.first.particles.size())};
+  b.comm().sum(n, 2);
+  EXPECT_EQ(n[0], static_cast<long long>(full.particles.size()));
+  EXPECT_EQ(n[1], static_cast<long long>(full.particles.size())) << "each particle generated on exactly one rank";
+  // a restart's set-up: no particles, the scene's materials and bodies
+  const std::pair<mpmfrag::Setup, std::vector<int>> none = mpi::distributed_setup(MPI_COMM_WORLD, scene, false);
+  EXPECT_EQ(none.first.particles.size(), 0u);
+  EXPECT_EQ(none.first.materials.size(), full.materials.size());
+  if (rank() == 0)
+    std::printf("%d ranks: distributed set-up of %zu particles equals the full set-up split (cuts", ranks(),
+                full.particles.size());
+  if (rank() == 0) {
+    for (int c : part.second) std::printf(" %d", c);
+    std::printf(")\n");
+  }
+}
+
+}  // namespace
