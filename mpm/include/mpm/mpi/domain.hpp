@@ -53,9 +53,9 @@
 /// (Done: snapshots, the outflow file, checkpoints and the last good state of a failure are
 /// written by every rank together with collective parallel HDF5, snapshot_mpi.hpp and
 /// checkpoint_mpi.hpp, in the serial layout; a restart on any rank count reads each rank's part
-/// of the rows; velocity-driven bodies, drive.cpp.) Every rank builds the full scene and keeps
-/// its particles (memory of the set-up is not distributed); slabs only (ORB boxes would cut the
-/// surface/volume ratio of the halo at high rank counts).
+/// of the rows; velocity-driven bodies, drive.cpp; the set-up distributed, distributed_setup:
+/// every rank walks the whole lattice, O(N) work, but stores only its slab's particles.) Slabs
+/// only (ORB boxes would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
 
