@@ -5,6 +5,7 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -79,13 +80,14 @@ double available_memory() {
   return avail;
 }
 
-void check_memory(const common::Scene& sc, double available, const MaterialRegistry& reg) {
+void check_memory(const common::Scene& sc, double available, const MaterialRegistry& reg, int ranks, int ranks_here) {
   const MemoryEstimate e = estimate_memory(sc, reg);
   if (e.particles >= 4294967295.0)
     throw common::InputError(sc.source(), "grid.cell_size",
                              "the bodies would hold about " + std::to_string(static_cast<long long>(e.particles)) +
                                  " particles at this cell size and their ppc (at most 2^32 - 1)");
-  if (e.total() > available) {
+  const double share = static_cast<double>(std::max(ranks_here, 1)) / static_cast<double>(std::max(ranks, 1));
+  if (e.total() * share > available) {
     char nodes[32];
     std::snprintf(nodes, sizeof nodes, "%.3g", e.grid_nodes);
     char parts[32];
@@ -94,7 +96,11 @@ void check_memory(const common::Scene& sc, double available, const MaterialRegis
                              "the grid over grid.domain_min .. grid.domain_max at this cell size has " +
                                  std::string(nodes) + " nodes (" + gigabytes(e.grid_bytes) + ") and the bodies about " +
                                  parts + " particles (" + gigabytes(e.particle_bytes) + "): " + gigabytes(e.total()) +
-                                 " in all, more than the " + gigabytes(available) + " of memory available");
+                                 " in all" +
+                                 (ranks > 1 ? ", " + gigabytes(e.total() * share) + " for the " + std::to_string(ranks_here) +
+                                                  " of " + std::to_string(ranks) + " MPI ranks on this node"
+                                            : std::string()) +
+                                 ", more than the " + gigabytes(available) + " of memory available");
   }
 }
 

@@ -66,6 +66,17 @@ TEST(MemoryBounds, SceneLargerThanTheMemoryIsRefusedNamingKeysAndSizes) {
         << m;
     EXPECT_NE(m.find("more than the 0.0001 GB of memory available"), std::string::npos) << m;
   }
+  // on MPI ranks a node holds its ranks' share: 8 ranks, 1 per node, fit where one rank does not
+  const double need = estimate_memory(sc).total();
+  EXPECT_THROW(check_memory(sc, 0.5 * need), common::InputError);
+  EXPECT_NO_THROW(check_memory(sc, 0.5 * need, builtin_materials(), 8, 1));
+  EXPECT_NO_THROW(check_memory(sc, 0.5 * need, builtin_materials(), 8, 4));
+  try {
+    check_memory(sc, 0.5 * need, builtin_materials(), 8, 8);  // all 8 on one node: the whole scene
+    FAIL() << "expected InputError";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("for the 8 of 8 MPI ranks on this node"), std::string::npos) << e.what();
+  }
   // 4096 cells per axis (the old per-axis limit) on a real machine: 6e12 bytes of grid alone
   const common::Scene huge = scene("[grid]\ndomain_min = [0.0, 0.0, 0.0]\ndomain_max = [4.096, 4.096, 4.096]\ncell_size = 0.001\n");
   EXPECT_GT(estimate_memory(huge).grid_bytes, 6e12);

@@ -10,6 +10,9 @@
 ///              last-good-state copy, binning keys, the generator's record)
 /// The total must not exceed the memory available: physical memory, or RLIMIT_AS / the cgroup's
 /// memory.max when smaller. Particle counts must stay below 2^32 (32-bit particle indices).
+/// On P MPI ranks (mpi/domain.hpp: slabs of the grid and their particles, the set-up
+/// distributed) a rank needs about total / P; the L ranks sharing a node need L total / P of the
+/// node's memory (the slabs' ghost planes, a few per rank, are left out of this estimate).
 #pragma once
 #include <cstddef>
 
@@ -33,8 +36,9 @@ MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& 
 double available_memory();
 
 /// Throws common::InputError (exit 2) naming grid.cell_size, grid.domain_min/max and the sizes
-/// when the estimate exceeds `available`, or the particle estimate reaches 2^32.
+/// when the estimate exceeds `available`, or the particle estimate reaches 2^32. `ranks`: the MPI
+/// ranks of the run, `ranks_here`: those on this node (sharing `available`).
 void check_memory(const common::Scene& sc, double available = available_memory(),
-                  const MaterialRegistry& reg = builtin_materials());
+                  const MaterialRegistry& reg = builtin_materials(), int ranks = 1, int ranks_here = 1);
 
 }  // namespace mpmfrag

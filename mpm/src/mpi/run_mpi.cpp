@@ -37,11 +37,18 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
   MPI_Comm_size(MPI_COMM_WORLD, &size);
   if (rank != 0) spdlog::set_level(spdlog::level::warn);
-  check_memory(scene);
+  Comm comm(MPI_COMM_WORLD);
+  {  // exit 2 on every rank if this node cannot hold its ranks' share of the scene
+    MPI_Comm node;
+    int here = 1;
+    MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
+    MPI_Comm_size(node, &here);
+    MPI_Comm_free(&node);
+    common::mpi::agreed(comm, [&] { check_memory(scene, available_memory(), builtin_materials(), size, here); });
+  }
   // every rank generates the scene and keeps its own slab's particles (none for a restart)
   std::pair<Setup, std::vector<int>> part = distributed_setup(MPI_COMM_WORLD, scene, restart.empty());
   Setup& st = part.first;
-  Comm comm(MPI_COMM_WORLD);
   // Rank 0 locks output.directory and every rank writes into its staging directory, published
   // when the run completes (run_directory.hpp): a failed or interrupted run leaves the previous
   // run's files as they were; a restart continues in the staging directory of the interrupted
