@@ -350,6 +350,7 @@ Setup build_setup(const common::Scene& sc, const MaterialRegistry& reg, const Se
       if (!part || (part->keep && part->keep(q.x))) gen.push_back(q);
     });
     bi.mass = mass;
+    if (driven) drives.back().mass = mass;  // M_k over every particle, kept or not (SetupPart)
     bi.mass_center = mx / mass;
     bi.velocity = v0;
     prims.push_back(pr);

@@ -70,7 +70,7 @@ TEST(MemoryBounds, SceneLargerThanTheMemoryIsRefusedNamingKeysAndSizes) {
   const double need = estimate_memory(sc).total();
   EXPECT_THROW(check_memory(sc, 0.5 * need), common::InputError);
   EXPECT_NO_THROW(check_memory(sc, 0.5 * need, builtin_materials(), 8, 1));
-  EXPECT_NO_THROW(check_memory(sc, 0.5 * need, builtin_materials(), 8, 4));
+  EXPECT_NO_THROW(check_memory(sc, 0.5 * need, builtin_materials(), 8, 3));
   try {
     check_memory(sc, 0.5 * need, builtin_materials(), 8, 8);  // all 8 on one node: the whole scene
     FAIL() << "expected InputError";

@@ -44,6 +44,10 @@ struct BodyDrive {
   std::uint64_t id_begin = 0, id_end = 0;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< v_drive [m/s]
   double ramp_time = 0.0;                               ///< t_ramp [s] (0: v_drive from the start)
+  /// M_k [kg]: the body's mass, summed over all its particles in id order by build_setup (the
+  /// same bits on one or many MPI ranks, at the start and after a restart); < 0: summed from
+  /// the particles by Solver::set_drives (one process only).
+  double mass = -1.0;
   /// v_T(t) [m/s]
   Eigen::Vector3d velocity_at(double t) const {
     return ramp_time > 0.0 && t < ramp_time ? Eigen::Vector3d(velocity * (t / ramp_time)) : velocity;

@@ -55,9 +55,11 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& mine, const std::vector<i
   if (cut.size() != static_cast<std::size_t>(comm_.size) + 1)
     throw std::logic_error("DomainSolver: " + std::to_string(cut.size()) + " cuts for " + std::to_string(comm_.size) + " ranks");
   slabs_.cut = cut;
-  for (std::size_t p = 0; p < mine.particles.size(); ++p)
-    if (slabs_.owner(cell_of(grid_, slabs_.axis, mine.particles.x[3 * p + slabs_.axis])) != comm_.rank)
-      throw std::logic_error("DomainSolver: a particle outside this rank's slab");
+  bool ok = cut.front() == 0 && cut.back() == grid_.shape[slabs_.axis];
+  for (std::size_t p = 0; ok && p < mine.particles.size(); ++p)
+    ok = slabs_.owner(cell_of(grid_, slabs_.axis, mine.particles.x[3 * p + slabs_.axis])) == comm_.rank;
+  if (!comm_.all(ok))  // every rank throws
+    throw std::logic_error("DomainSolver: cuts that do not span the grid, or a particle outside its rank's slab");
   build_solver(mine, mine.particles, mine.materials);
 }
 
@@ -66,7 +68,8 @@ std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   SetupPart none;  // the grid first (nothing stored)
-  const Setup shape = build_setup(scene, builtin_materials(), &none);
+  Setup shape = build_setup(scene, builtin_materials(), &none);
+  if (!particles) return {std::move(shape), {}};  // a restart: the checkpoint's particles and cuts
   const common::GridInfo& g = shape.grid;
   Slabs sl = slab_layout(g, shape.solver.ghost_layers);
   const int axis = sl.axis;

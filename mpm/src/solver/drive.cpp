@@ -12,7 +12,9 @@
 /// The node lists are built serially in particle index order, and every sum runs over them in
 /// that order, so the loads do not depend on the thread count.
 ///
-/// On MPI ranks (a Subdomain with an exchange): M_k is summed over the ranks; after the local
+/// On MPI ranks (a Subdomain with an exchange): M_k is the body's mass from build_setup (every
+/// particle in id order, BodyDrive::mass: the same bits on any rank count and after a restart,
+/// whatever the particles' split); after the local
 /// flags the ranks make the flags of their shared nodes agree (GridExchange::min_shared_drive:
 /// a node reached only by a neighbour's particle of the body is constrained here as well, so
 /// owner and ghost keep identical values); each rank sums the reaction over the constrained nodes
@@ -50,7 +52,14 @@ void Solver::set_drives(std::vector<BodyDrive> drives) {
     const int k = drive_of(ps_.id[p]);
     if (k >= 0) drive_mass_[k] += ps_.mass[p];
   }
-  if (sub_.exchange && nd > 0) sub_.exchange->sum(drive_mass_.data(), static_cast<int>(nd));  // collective
+  for (std::size_t k = 0; k < nd; ++k) {
+    if (drives_[k].mass >= 0.0) {
+      drive_mass_[k] = drives_[k].mass;
+    } else if (sub_.exchange) {
+      throw common::InputError("drive of body " + std::to_string(drives_[k].body) +
+                               ": its mass must come from the set-up on MPI ranks (BodyDrive::mass)");
+    }
+  }
 }
 
 void Solver::drive_prepare() {

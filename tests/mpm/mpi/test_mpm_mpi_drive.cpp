@@ -5,7 +5,9 @@
 /// from everything, holds the particles the lower platen lacks beyond the cut, so the particle
 /// count per plane and the cuts do not move), so the nodes of the two
 /// planes past the cut are constrained by rank 0's particles only and the neighbour learns it
-/// from the swapped flags (GridExchange::min_shared_drive; without the swap the test fails). Against one rank: the particle
+/// from the swapped flags (GridExchange::min_shared_drive; without the swap the test fails). The
+/// upper platen also moves along the split axis, and the run rebalances as it does (the drives'
+/// node flags follow the new boxes, Solver::set_subdomain). Against one rank: the particle
 /// state within the cross-rank tolerances of test_mpm_mpi.cpp, the platens rigid at v_T, and
 /// each platen's reaction (the force of the last step and the impulse since t = 0, summed over
 /// the nodes each rank owns, then over the ranks) within 1e-10 of its size; every rank holds the
@@ -70,7 +72,7 @@ shape = "box"
 min = [0.03, 0.06, 0.01]
 max = [0.27, 0.075, 0.04]
 drive.enabled = true
-drive.velocity = [0.0, -3.0, 0.5]
+drive.velocity = [30.0, -3.0, 0.5]
 drive.ramp_time = 2e-5
 )");
 }
@@ -86,9 +88,14 @@ TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   ASSERT_LT(xe, 0.25);
   const mpmfrag::Setup st = squeeze_setup(xe);
   ASSERT_EQ(st.drives.size(), 2u);
-  DomainSolver dom(MPI_COMM_WORLD, st);
+  mpi::DomainOptions opt;  // the upper platen moves along the split axis: the cuts follow it
+  opt.rebalance_every = 3;
+  opt.imbalance_threshold = 1.0 + 1e-9;
+  DomainSolver dom(MPI_COMM_WORLD, st, opt);
+  ASSERT_EQ(dom.slabs().cut[1], P) << "the lower platen must end at the first cut";
   dom.initialize();
   run_domain(dom, kEnd);
+  const long long rebalances = dom.stats().rebalances;
   const std::vector<DriveLoad> loads = dom.local().drive_loads();
   std::vector<double> mine;
   for (const DriveLoad& l : loads) mine.insert(mine.end(), {l.force[0], l.force[1], l.force[2], l.impulse[0], l.impulse[1], l.impulse[2]});
@@ -97,6 +104,7 @@ TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   std::vector<MaterialSlot> gm;
   dom.gather(0, g, gm);
   if (rank() != 0) return;
+  EXPECT_GE(rebalances, 1) << "the cuts must move with the platen (Solver::set_subdomain with drives)";
   for (int r = 1; r < ranks(); ++r)
     for (std::size_t k = 0; k < mine.size(); ++k) EXPECT_EQ(all[r * mine.size() + k], mine[k]) << "rank " << r;
   mpmfrag::Setup ss = squeeze_setup(xe);
@@ -105,6 +113,7 @@ TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   ser.initialize();
   run_serial(ser, kEnd);
   EXPECT_EQ(dom.step_count(), ser.step_count());
+  for (std::size_t k = 0; k < st.drives.size(); ++k) EXPECT_GT(st.drives[k].mass, 0.0);
   const Diff df = compare(g, gm, ser.particles(), ser.materials());
   ASSERT_TRUE(df.same_ids);
   EXPECT_LT(df.max.at("v"), 1e-12 * U);

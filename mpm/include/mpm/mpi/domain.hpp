@@ -175,9 +175,9 @@ struct OutflowRecord {
 /// Distributed set-up (collective; no rank holds every particle): every rank generates the
 /// scene's lattice itself (build_setup with a SetupPart), counts the particles per plane of the
 /// split axis (the cuts DomainSolver(comm, build_setup(scene)) would compute) and keeps the
-/// particles of its own slab, or none (`particles` false: a restart reads them). Returns the
-/// set-up and the cuts, for DomainSolver(comm, setup, cuts): the same particles in the same order
-/// on every rank as the full set-up.
+/// particles of its own slab, or none (`particles` false: a restart reads them; no cuts then).
+/// Returns the set-up and the cuts, for DomainSolver(comm, setup, cuts): the same particles in
+/// the same order on every rank as the full set-up.
 std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles = true);
 
 /// One rank's part of a distributed mpm-frag run.
