@@ -13,3 +13,19 @@ signal_one_rank() {
   mpirun_rc=$?
   set -e
 }
+# kill_rank_after GLOB MPIRUN_PID: waits (at most 60 s) for a file matching GLOB (unquoted, so
+# it expands) while mpirun MPIRUN_PID runs, then SIGKILLs one of its ranks (signal_one_rank) and
+# sets found to the file and mpirun_rc. Returns 1 if mpirun ended first, no file appeared, or
+# mpirun has no child. Call it from the shell that started mpirun.
+kill_rank_after() {
+  local glob=$1 pid=$2
+  found=
+  for _ in $(seq 1 1200); do
+    found=$(ls $glob 2>/dev/null | head -1 || true)
+    [ -n "$found" ] && break
+    kill -0 "$pid" 2>/dev/null || return 1
+    sleep 0.05
+  done
+  [ -n "$found" ] || return 1
+  signal_one_rank KILL "$pid"
+}
