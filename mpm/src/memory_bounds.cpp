@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -65,10 +66,16 @@ MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& 
   return e;
 }
 
-double available_memory() {
-  double avail = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
+double process_memory_limit() {
   rlimit rl{};
-  if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) avail = std::min(avail, static_cast<double>(rl.rlim_cur));
+  if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) return static_cast<double>(rl.rlim_cur);
+  return std::numeric_limits<double>::infinity();
+}
+
+double available_memory() { return std::min(node_memory(), process_memory_limit()); }
+
+double node_memory() {
+  double avail = static_cast<double>(sysconf(_SC_PHYS_PAGES)) * static_cast<double>(sysconf(_SC_PAGE_SIZE));
   std::ifstream cg("/sys/fs/cgroup/memory.max");
   std::string v;
   if (cg >> v && v != "max") {

@@ -3,6 +3,10 @@
 /// really allocate, and its refusal (InputError naming the keys and the sizes) when the machine
 /// has less memory than the scene needs.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <limits>
 
 #include "common/status.hpp"
 #include "mpm/memory_bounds.hpp"
@@ -77,6 +81,13 @@ TEST(MemoryBounds, SceneLargerThanTheMemoryIsRefusedNamingKeysAndSizes) {
   } catch (const common::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("for the 8 of 8 MPI ranks on this node"), std::string::npos) << e.what();
   }
+  // the process limit (RLIMIT_AS) and the node's memory make up what one process may use
+  EXPECT_EQ(available_memory(), std::min(node_memory(), process_memory_limit()));
+  EXPECT_GT(node_memory(), 0.0);
+  rlimit rl{};  // (not lowered here: a sanitizer's shadow mappings would exceed any small limit)
+  ASSERT_EQ(getrlimit(RLIMIT_AS, &rl), 0);
+  EXPECT_EQ(process_memory_limit(), rl.rlim_cur == RLIM_INFINITY ? std::numeric_limits<double>::infinity()
+                                                                  : static_cast<double>(rl.rlim_cur));
   // 4096 cells per axis (the old per-axis limit) on a real machine: 6e12 bytes of grid alone
   const common::Scene huge = scene("[grid]\ndomain_min = [0.0, 0.0, 0.0]\ndomain_max = [4.096, 4.096, 4.096]\ncell_size = 0.001\n");
   EXPECT_GT(estimate_memory(huge).grid_bytes, 6e12);

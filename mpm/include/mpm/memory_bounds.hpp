@@ -32,8 +32,13 @@ struct MemoryEstimate {
 /// Estimate from a validated scene (keys as in mpm_schema()).
 MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& reg = builtin_materials());
 
-/// Bytes this process may use: min(physical memory, RLIMIT_AS, cgroup memory.max).
+/// Bytes this process may use: min(node_memory(), process_memory_limit()).
 double available_memory();
+/// Bytes the node (or the job's cgroup) offers its processes together: min(physical memory,
+/// cgroup memory.max).
+double node_memory();
+/// Bytes one process may map: RLIMIT_AS (infinity when unlimited).
+double process_memory_limit();
 
 /// Throws common::InputError (exit 2) naming grid.cell_size, grid.domain_min/max and the sizes
 /// when the estimate exceeds `available`, or the particle estimate reaches 2^32. `ranks`: the MPI

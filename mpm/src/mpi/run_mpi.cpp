@@ -44,7 +44,10 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, rank, MPI_INFO_NULL, &node);
     MPI_Comm_size(node, &here);
     MPI_Comm_free(&node);
-    common::mpi::agreed(comm, [&] { check_memory(scene, available_memory(), builtin_materials(), size, here); });
+    common::mpi::agreed(comm, [&] {
+      check_memory(scene, node_memory(), builtin_materials(), size, here);         // the node's ranks together
+      check_memory(scene, process_memory_limit(), builtin_materials(), size, 1);  // one rank, RLIMIT_AS
+    });
   }
   // every rank generates the scene and keeps its own slab's particles (none for a restart)
   std::pair<Setup, std::vector<int>> part = distributed_setup(MPI_COMM_WORLD, scene, restart.empty());
