@@ -80,7 +80,7 @@ std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common
   (void)build_setup(scene, builtin_materials(), &counting);
   sl.cut = balanced_cuts(count, size, sl.min_width);
   SetupPart mine;
-  if (particles) mine.keep = [&](const Eigen::Vector3d& x) { return sl.owner(cell_of(g, axis, x[axis])) == rank; };
+  mine.keep = [&](const Eigen::Vector3d& x) { return sl.owner(cell_of(g, axis, x[axis])) == rank; };
   return {build_setup(scene, builtin_materials(), &mine), sl.cut};
 }
 
@@ -91,7 +91,7 @@ void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vecto
   Subdomain box = slabs_.box(comm_.rank, grid_);
   box.exchange = halo_.get();
   solver_ = std::make_unique<Solver>(setup.solver, grid_, std::move(mine), std::move(mats), box);
-  solver_->set_drives(setup.drives);  // collective: the drives' masses summed over the ranks
+  solver_->set_drives(setup.drives);  // the drives' masses from the set-up (BodyDrive::mass)
 }
 
 int DomainSolver::cell(double x) const { return cell_of(grid_, slabs_.axis, x); }

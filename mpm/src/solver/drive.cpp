@@ -48,17 +48,15 @@ void Solver::set_drives(std::vector<BodyDrive> drives) {
   drive_nodes_.assign(nd, {});
   drive_c1_.assign(nd, Eigen::Vector3d::Zero());
   node_drive_.assign(nd ? nodes_.size() : 0, -1);
-  for (std::size_t p = 0; p < ps_.size(); ++p) {
-    const int k = drive_of(ps_.id[p]);
-    if (k >= 0) drive_mass_[k] += ps_.mass[p];
-  }
   for (std::size_t k = 0; k < nd; ++k) {
-    if (drives_[k].mass >= 0.0) {
-      drive_mass_[k] = drives_[k].mass;
-    } else if (sub_.exchange) {
+    if (drives_[k].mass < 0.0 && sub_.exchange)
       throw common::InputError("drive of body " + std::to_string(drives_[k].body) +
                                ": its mass must come from the set-up on MPI ranks (BodyDrive::mass)");
-    }
+    if (drives_[k].mass >= 0.0) drive_mass_[k] = drives_[k].mass;
+  }
+  for (std::size_t p = 0; p < ps_.size(); ++p) {  // one process, drives built without a mass
+    const int k = drive_of(ps_.id[p]);
+    if (k >= 0 && drives_[k].mass < 0.0) drive_mass_[k] += ps_.mass[p];
   }
 }
 
