@@ -29,8 +29,8 @@ void direct_gravity(const Spheres& sp, double G, std::vector<Vec3>& acc, std::ve
 
 double TreeGravity::bytes_per_sphere(std::size_t n) const {
   if (n == 0) return 0.0;
-  return (static_cast<double>(nodes_.size()) * sizeof(Node) +
-          static_cast<double>(n) * (4 + 4 + 5 * 8) + 4.0 * leaves_.size()) /
+  return (static_cast<double>(d_.nodes.size()) * sizeof(tree::Node) +
+          static_cast<double>(n) * (4 + 4 + 5 * 8) + 4.0 * d_.leaves.size()) /
          static_cast<double>(n);
 }
 

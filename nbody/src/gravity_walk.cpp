@@ -25,36 +25,44 @@ struct Lists {
 };
 }  // namespace
 
-void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot,
-                          const std::vector<std::uint8_t>* sinks) {
+void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot) {
   const std::size_t n = sp.size();
   acc.assign(n, Vec3::Zero());
   if (pot) pot->assign(n, 0.0);
   if (n == 0) return;
   build(sp);
+  double cells = 0, parts = 0;
+  tree::walk(d_, p_, d_.groups, acc, pot, cells, parts);
+  d_.stats.cell_interactions = cells / static_cast<double>(n);
+  d_.stats.particle_interactions = parts / static_cast<double>(n);
+}
+
+namespace tree {
+
+void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t>& groups,
+          std::vector<Vec3>& acc, std::vector<double>* pot, double& cells, double& parts) {
+  if (d.nodes.empty() || groups.empty()) return;
+  const std::vector<Node>& nodes = d.nodes;
+  const std::vector<double>&px = d.px, &py = d.py, &pz = d.pz, &pm = d.pm, &ph = d.ph;
   // Kernel units (single precision must neither overflow nor underflow for any SI scene):
   // lengths in units of the root cell's half-size L, masses in units of the total mass M,
   // coordinates relative to each group's centre.
-  const double L = root_half_, M = nodes_[0].mass;
+  const double L = d.root_half, M = nodes[0].mass;
   const double il = 1.0 / L, im = 1.0 / M, il2 = il * il;
-  const double facc = p_.G * M / (L * L), fpot = p_.G * M / L;
-  const double itheta = 1.0 / p_.theta;
-  const std::size_t nl = groups_.size();
+  const double facc = p.G * M / (L * L), fpot = p.G * M / L;
+  const double itheta = 1.0 / p.theta;
+  const std::size_t nl = groups.size();
+  std::size_t nsinks = 0;
+  for (std::uint32_t gi : groups) nsinks += nodes[gi].count;
   double tot_cells = 0, tot_parts = 0;
-  auto has_sink = [&](const Node& g) {
-    for (std::uint32_t t = g.start; t < g.start + g.count; ++t)
-      if ((*sinks)[perm_[t]]) return true;
-    return false;
-  };
-#pragma omp parallel reduction(+ : tot_cells, tot_parts) if (n >= 1024)
+#pragma omp parallel reduction(+ : tot_cells, tot_parts) if (nsinks >= 1024)
   {
     Lists w;
     w.stack.reserve(256);
 #pragma omp for schedule(dynamic, 4)
-    for (std::size_t L = 0; L < nl; ++L) {
-      const std::uint32_t gi = groups_[L];
-      const Node& g = nodes_[gi];
-      if (sinks && !has_sink(g)) continue;
+    for (std::size_t gl = 0; gl < nl; ++gl) {
+      const std::uint32_t gi = groups[gl];
+      const Node& g = nodes[gi];
       w.cells.clear();
       w.far.clear();
       w.near.clear();
@@ -62,15 +70,12 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
       while (!w.stack.empty()) {
         const std::uint32_t ci = w.stack.back();
         w.stack.pop_back();
-        const Node& c = nodes_[ci];
+        const Node& c = nodes[ci];
         if (ci == gi) {
           w.near.push_back(ci);
           continue;
         }
-        const Vec3 dd = (g.lo - c.com).cwiseMax(c.com - g.hi).cwiseMax(Vec3::Zero());
-        const double rmin2 = dd.squaredNorm();
-        const double ropen = std::max(c.bmax * itheta, c.bmax + c.hmax + g.hmax);
-        if (rmin2 > ropen * ropen) {
+        if (tree_accepts(c, g.lo, g.hi, g.hmax, itheta)) {
           w.cells.push_back(ci);
         } else if (c.child < 0) {
           (box_distance(c.lo, c.hi, g.lo, g.hi) < c.hmax + g.hmax ? w.near : w.far).push_back(ci);
@@ -90,7 +95,7 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
         cl.q0 = b + 4 * m, cl.q1 = b + 5 * m, cl.q2 = b + 6 * m;
         cl.q3 = b + 7 * m, cl.q4 = b + 8 * m, cl.q5 = b + 9 * m;
         for (std::size_t k = 0; k < m; ++k) {
-          const Node& nd = nodes_[w.cells[k]];
+          const Node& nd = nodes[w.cells[k]];
           b[k] = static_cast<float>((nd.com.x() - c0.x()) * il);
           b[m + k] = static_cast<float>((nd.com.y() - c0.y()) * il);
           b[2 * m + k] = static_cast<float>((nd.com.z() - c0.z()) * il);
@@ -99,8 +104,8 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
         }
       }
       std::size_t nf = 0, nn = 0;
-      for (std::uint32_t li : w.far) nf += nodes_[li].count;
-      for (std::uint32_t li : w.near) nn += nodes_[li].count;
+      for (std::uint32_t li : w.far) nf += nodes[li].count;
+      for (std::uint32_t li : w.near) nn += nodes[li].count;
       detail::PartList fl;
       fl.n = nf;
       w.fbuf.resize(4 * nf);
@@ -109,11 +114,11 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
         fl.x = b, fl.y = b + nf, fl.z = b + 2 * nf, fl.m = b + 3 * nf;
         std::size_t k = 0;
         for (std::uint32_t li : w.far)
-          for (std::uint32_t t = nodes_[li].start; t < nodes_[li].start + nodes_[li].count; ++t, ++k) {
-            b[k] = static_cast<float>((px_[t] - c0.x()) * il);
-            b[nf + k] = static_cast<float>((py_[t] - c0.y()) * il);
-            b[2 * nf + k] = static_cast<float>((pz_[t] - c0.z()) * il);
-            b[3 * nf + k] = static_cast<float>(pm_[t] * im);
+          for (std::uint32_t t = nodes[li].start; t < nodes[li].start + nodes[li].count; ++t, ++k) {
+            b[k] = static_cast<float>((px[t] - c0.x()) * il);
+            b[nf + k] = static_cast<float>((py[t] - c0.y()) * il);
+            b[2 * nf + k] = static_cast<float>((pz[t] - c0.z()) * il);
+            b[3 * nf + k] = static_cast<float>(pm[t] * im);
           }
       }
       detail::NearList nlst;
@@ -126,12 +131,12 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
         nlst.tid = w.ntid.data();
         std::size_t k = 0;
         for (std::uint32_t li : w.near)
-          for (std::uint32_t t = nodes_[li].start; t < nodes_[li].start + nodes_[li].count; ++t, ++k) {
-            b[k] = (px_[t] - c0.x()) * il;
-            b[nn + k] = (py_[t] - c0.y()) * il;
-            b[2 * nn + k] = (pz_[t] - c0.z()) * il;
-            b[3 * nn + k] = pm_[t] * im;
-            b[4 * nn + k] = ph_[t] * il;
+          for (std::uint32_t t = nodes[li].start; t < nodes[li].start + nodes[li].count; ++t, ++k) {
+            b[k] = (px[t] - c0.x()) * il;
+            b[nn + k] = (py[t] - c0.y()) * il;
+            b[2 * nn + k] = (pz[t] - c0.z()) * il;
+            b[3 * nn + k] = pm[t] * im;
+            b[4 * nn + k] = ph[t] * il;
             w.ntid[k] = static_cast<std::int32_t>(t);
           }
       }
@@ -148,10 +153,10 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
         double* d = w.sdbl.data();
         for (std::size_t k = 0; k < ns; ++k) {
           const std::uint32_t t = g.start + static_cast<std::uint32_t>(k);
-          d[k] = (px_[t] - c0.x()) * il;
-          d[ns + k] = (py_[t] - c0.y()) * il;
-          d[2 * ns + k] = (pz_[t] - c0.z()) * il;
-          d[3 * ns + k] = ph_[t] * il;
+          d[k] = (px[t] - c0.x()) * il;
+          d[ns + k] = (py[t] - c0.y()) * il;
+          d[2 * ns + k] = (pz[t] - c0.z()) * il;
+          d[3 * ns + k] = ph[t] * il;
           b[k] = static_cast<float>(d[k]), b[ns + k] = static_cast<float>(d[ns + k]);
           b[2 * ns + k] = static_cast<float>(d[2 * ns + k]);
           w.stid[k] = static_cast<std::int32_t>(t);
@@ -168,14 +173,15 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
       tot_cells += static_cast<double>(cl.n) * static_cast<double>(ns);
       tot_parts += static_cast<double>(fl.n + nlst.n) * static_cast<double>(ns);
       for (std::size_t k = 0; k < ns; ++k) {
-        const std::uint32_t i = perm_[g.start + k];
+        const std::uint32_t i = d.perm[g.start + k];
         acc[i] = Vec3(facc * s.ax[k], facc * s.ay[k], facc * s.az[k]);
         if (pot) (*pot)[i] = fpot * s.pot[k];
       }
     }
   }
-  stats_.cell_interactions = tot_cells / static_cast<double>(n);
-  stats_.particle_interactions = tot_parts / static_cast<double>(n);
+  cells += tot_cells;
+  parts += tot_parts;
 }
 
+}  // namespace tree
 }  // namespace ssdem

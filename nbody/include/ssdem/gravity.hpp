@@ -29,17 +29,10 @@
 #include <cstdint>
 #include <vector>
 
+#include "ssdem/gravity_tree.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
-
-struct GravityParams {
-  double G = 6.674e-11;  ///< [m^3 kg^-1 s^-2]
-  double theta = 0.25;   ///< opening angle: rms relative force error <= 1e-3 on piles (test_nbody_gravity_tree)
-  int bucket = 8;        ///< max particles per leaf
-  int group = 64;        ///< max sinks per group sharing one interaction list (>= bucket)
-  int max_depth = 40;    ///< subdivision cap (coincident points)
-};
 
 /// Spline-softened pair kernel: returns K(u)/h^3 and sets W(u)/h (see file comment).
 inline double spline_force_factor(double r, double h, double& pot_factor) {
@@ -64,49 +57,21 @@ inline double spline_force_factor(double r, double h, double& pot_factor) {
 void direct_gravity(const Spheres& sp, double G, std::vector<Vec3>& acc,
                     std::vector<double>* pot = nullptr);
 
-struct TreeStats {
-  std::size_t nodes = 0, leaves = 0, depth = 0;
-  double cell_interactions = 0, particle_interactions = 0;  ///< per particle, mean
-};
-
 /// Barnes-Hut octree with quadrupoles and group walk.
 class TreeGravity {
  public:
   explicit TreeGravity(GravityParams p) : p_(p) {}
   const GravityParams& params() const { return p_; }
   /// Build the tree for the current positions and compute accelerations (and potentials).
-  /// `sinks` (optional, one flag per sphere): walk only the groups holding a flagged sphere; the
-  /// others get zero (MPI ranks evaluate their own spheres; flagged results are unchanged).
-  void compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot = nullptr,
-               const std::vector<std::uint8_t>* sinks = nullptr);
-  const TreeStats& stats() const { return stats_; }
+  void compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector<double>* pot = nullptr);
+  const TreeStats& stats() const { return d_.stats; }
   /// Bytes per sphere held by the tree (nodes + permutation + sorted copies).
   double bytes_per_sphere(std::size_t n) const;
 
  private:
-  struct Node {
-    Vec3 com;
-    double mass = 0, bmax = 0, hmax = 0;
-    double q[6] = {0, 0, 0, 0, 0, 0};  // xx, yy, zz, xy, xz, yz
-    Vec3 lo, hi;                      // bounding box of the particles
-    std::uint32_t start = 0, count = 0;
-    std::int32_t child = -1;          // first child index, children contiguous
-    std::uint8_t nchild = 0;
-  };
   void build(const Spheres& sp);
-  std::uint32_t build_node(std::uint32_t self, std::uint32_t start, std::uint32_t count,
-                           const Vec3& c, double half, int depth, bool in_group);
-  void moments(std::uint32_t node);
-
   GravityParams p_;
-  TreeStats stats_;
-  std::vector<Node> nodes_;
-  std::vector<std::uint32_t> perm_;
-  std::vector<double> px_, py_, pz_, pm_, ph_;  // particle data in tree order
-  std::vector<std::uint32_t> leaves_, groups_;
-  std::vector<std::uint32_t> scratch_;
-  const Spheres* sp_ = nullptr;
-  double root_half_ = 1.0;
+  tree::Data d_;
 };
 
 }  // namespace ssdem

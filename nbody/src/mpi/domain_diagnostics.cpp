@@ -33,7 +33,7 @@ Diagnostics DomainSim::diagnostics() {
   }
   DiagnosticSums sums;
   for (std::uint32_t i : own_)
-    sums.add_sphere(sp_, i, contacts_ != nullptr, cfg_.self_gravity ? &gpot_[gidx_[i]] : nullptr, cfg_.uniform_g);
+    sums.add_sphere(sp_, i, contacts_ != nullptr, cfg_.self_gravity ? &pot_[i] : nullptr, cfg_.uniform_g);
   unsigned long long counts[2] = {0, 0};  // sphere-sphere and wall contacts
   double max_overlap = 0.0;
   if (contacts_) {

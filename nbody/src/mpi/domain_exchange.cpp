@@ -249,8 +249,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
   for (int r = 0; r < comm_.size; ++r)
     for (std::uint64_t g : sendg[r]) send_[r].push_back(slot_of_g(g));
   for (std::size_t k = 0; k < ghg.size(); ++k) recv_[ghr[k]].push_back(ghost_slot[k]);
-  gmine_.assign(gsp_.size(), 0);
-  for (std::uint32_t s : own_) gmine_[gidx_[s]] = 1;
+  pot_step_ = -1;  // potentials are kept per local slot: the slots changed
   if (contacts_) {
     std::vector<HistoryRecord> mine;
     for (const HistoryRecord& r : recs)

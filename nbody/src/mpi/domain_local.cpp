@@ -55,9 +55,9 @@ DomainSim::Local DomainSim::unpack(const std::vector<char>& spheres, const std::
 }
 
 std::vector<std::pair<std::uint64_t, std::uint64_t>> DomainSim::history_rows(const std::vector<HistoryRecord>& h) const {
-  std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;  // ids are constant: gsp_ holds them all
-  g_of_id.reserve(gsp_.size());
-  for (std::size_t g = 0; g < gsp_.size(); ++g) g_of_id.emplace(gsp_.id[g], g);
+  std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;  // ids are constant: all_id_ holds them all
+  g_of_id.reserve(all_id_.size());
+  for (std::size_t g = 0; g < all_id_.size(); ++g) g_of_id.emplace(all_id_[g], g);
   std::vector<std::pair<std::uint64_t, std::uint64_t>> key(h.size());
   for (std::size_t k = 0; k < h.size(); ++k) {
     const HistoryRecord& r = h[k];
@@ -97,7 +97,7 @@ SimState DomainSim::assemble(const Packed& mine) const {
   stats_.bytes_other += comm_.bytes_sent - b0;
   if (comm_.rank != 0) return SimState{};
   Local L = unpack(all, hall, mine);
-  const std::size_t n = gsp_.size();
+  const std::size_t n = all_id_.size();
   SimState st;
   st.sp.resize(n);
   std::vector<char> b;

@@ -44,15 +44,9 @@ void DomainSim::setup(const Spheres& all) {
   } else {
     reach_ = -1.0;  // no ghosts
   }
-  if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<TreeGravity>(cfg_.gravity);
+  if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<DistributedTree>(comm_, cfg_.gravity);
   setup_multirate();
-  // replicated arrays for gravity (positions refreshed at each evaluation)
-  gsp_.id = all.id;
-  gsp_.x = all.x;
-  gsp_.m = all.m;
-  gsp_.s = all.s;
-  gsp_.v.assign(all.size(), Vec3::Zero());
-  gsp_.w.assign(all.size(), Vec3::Zero());
+  all_id_ = all.id;
   const std::size_t lo = common::mpi::dense_first(all.size(), comm_.size, comm_.rank),
                     hi = common::mpi::dense_first(all.size(), comm_.size, comm_.rank + 1);
   carried_.clear();
@@ -106,28 +100,42 @@ DomainSim::DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imba
 
 void DomainSim::compute_gravity() {
   const double t0 = omp_get_wtime();
-  struct GX {
-    std::uint64_t g;
-    double x[3];
-  };
-  std::vector<GX> mine(own_.size());
-  for (std::size_t k = 0; k < own_.size(); ++k) {
-    const std::uint32_t i = own_[k];
-    mine[k] = GX{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}};
-  }
   const double b0 = comm_.bytes_sent;
-  const double c0 = omp_get_wtime();
-  const std::vector<GX> all = comm_.gather(mine);
-  stats_.wall_comm += omp_get_wtime() - c0;
+  std::vector<double>* pot = want_pot_ ? &pot_ : nullptr;
+  if (pot) pot_.resize(sp_.size());
+  if (tree_) {
+    tree_->compute(sp_, own_, ag_, pot, gidx_);
+  } else {
+    // direct summation: every sphere's position, mass and radius on every rank
+    struct GX {
+      std::uint64_t g;
+      double x[3], m, s;
+    };
+    std::vector<GX> mine(own_.size());
+    for (std::size_t k = 0; k < own_.size(); ++k) {
+      const std::uint32_t i = own_[k];
+      mine[k] = GX{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}, sp_.m[i], sp_.s[i]};
+    }
+    const double c0 = omp_get_wtime();
+    const std::vector<GX> all = comm_.gather(mine);
+    stats_.wall_comm += omp_get_wtime() - c0;
+    Spheres g;
+    g.resize(all_id_.size());
+    for (const GX& p : all) {
+      g.x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
+      g.m[p.g] = p.m;
+      g.s[p.g] = p.s;
+    }
+    std::vector<Vec3> acc;
+    std::vector<double> gp;
+    direct_gravity(g, cfg_.gravity.G, acc, pot ? &gp : nullptr);
+    for (std::uint32_t i : own_) {
+      ag_[i] = acc[gidx_[i]];
+      if (pot) pot_[i] = gp[gidx_[i]];
+    }
+  }
   stats_.bytes_gravity += comm_.bytes_sent - b0;
   ++stats_.gravity_gathers;
-  for (const GX& p : all) gsp_.x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
-  std::vector<double>* pot = want_pot_ ? &gpot_ : nullptr;
-  if (tree_)
-    tree_->compute(gsp_, gacc_, pot, &gmine_);
-  else
-    direct_gravity(gsp_, cfg_.gravity.G, gacc_, pot);
-  for (std::uint32_t i : own_) ag_[i] = gacc_[gidx_[i]];
   grav_step_ = step_;
   if (pot) pot_step_ = step_;
   times_.gravity += omp_get_wtime() - t0;
@@ -231,7 +239,7 @@ void DomainSim::close_gravity_block() {
   if (cfg_.adaptive_gravity) {
     next = 1;
     if (cfg_.self_gravity) {
-      const std::size_t n = gsp_.size();
+      const std::size_t n = all_id_.size();
       // global sums, exact over the ranks: the bits of one rank's (gravity_cadence.hpp)
       common::ExactSum g2s = cadence_g2(ag_, &own_);
       common::mpi::allreduce(comm_, g2s);
@@ -285,9 +293,9 @@ double DomainSim::bytes_per_owned_sphere() const {
   double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
   if (cfg_.multirate) b += nl * (4 + 8 + 3 * 8 + 4);  // levels/flags, opening step, h_open, tau_prev, tau, active
   if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
-  const double ng = static_cast<double>(gsp_.size());
-  b += ng * (Spheres::bytes_per_sphere() + 1 + 24);  // replicated gravity arrays, mask, accelerations
-  if (tree_) b += ng * tree_->bytes_per_sphere(gsp_.size());
+  b += 8.0 * static_cast<double>(all_id_.size());  // ids of all spheres (history keys)
+  if (cfg_.self_gravity) b += nl * 8;               // potentials
+  if (tree_) b += tree_->bytes();
   return own_.empty() ? b : b / static_cast<double>(own_.size());
 }
 

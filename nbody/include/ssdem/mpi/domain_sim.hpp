@@ -31,11 +31,11 @@
 /// rank's record is sent to the new owners of both members and imported there, so the history
 /// moves with its owner and the copies never diverge (ghost-ghost pairs, whose forces are unused,
 /// are overwritten from the owner's record at the next exchange).
-/// Gravity (replicated top: the ecosystem note's v1 design, not locally essential trees). At each
-/// gravity evaluation the positions of all spheres are allgathered (32 B per sphere per rank), every
-/// rank builds the same tree from them (gravity.hpp, index order) and walks only the sink groups
-/// holding its own spheres: forces equal the one-rank forces bit for bit, at O(N) memory and
-/// communication per rank per evaluation (fine to ~1e7 spheres; a distributed tree is left).
+/// Gravity. The tree (gravity.tree): the one-rank octree distributed over the ranks along its
+/// own cells, with locally essential trees (gravity_let.hpp): forces equal the one-rank forces bit
+/// for bit, with O(N/P + N/group) memory and O(N/P) traffic per rank per evaluation. Direct
+/// summation (gravity.direct, small N): the positions, masses and radii of all spheres are
+/// allgathered at each evaluation and every rank sums for its own spheres.
 /// Cadence. The block length uses global sums of |g|^2 and |g - g'|^2: per-rank partial sums are
 /// allgathered and added in rank order (deterministic for a given rank count; against one rank
 /// they differ by round-off, which can change the integer block length only when it is within
@@ -61,6 +61,7 @@
 #include <unordered_map>
 
 #include "ssdem/mpi/comm.hpp"
+#include "ssdem/mpi/gravity_let.hpp"
 #include "ssdem/mpi/orb.hpp"
 #include "ssdem/simulation.hpp"
 
@@ -111,7 +112,9 @@ class DomainSim {
   const PhaseTimes& times() const { return times_; }
   std::size_t owned() const { return own_.size(); }
   std::size_t ghosts() const { return sp_.size() - own_.size(); }
-  std::size_t global_count() const { return gsp_.size(); }
+  std::size_t global_count() const { return all_id_.size(); }
+  /// The distributed tree (null with direct gravity or without self-gravity).
+  const DistributedTree* tree() const { return tree_.get(); }
   /// Collective: contacts between spheres of different ranks (summed over the ranks).
   std::size_t cross_rank_contacts() const;
   /// Collective: the rank owning the sphere with this id (-1 if none).
@@ -147,8 +150,8 @@ class DomainSim {
   const std::vector<common::Field>& carried_block() const { return carried_; }
   /// Collective: the multi-rate level statistics of all ranks (rank 0; sums; empty in single rate).
   LevelStats gather_level_stats() const;
-  /// Bytes per sphere held by this rank (local set, contact system, replicated gravity arrays),
-  /// divided by the spheres it owns.
+  /// Bytes per sphere held by this rank (local set, contact system, gravity tree, the ids of all
+  /// spheres), divided by the spheres it owns.
   double bytes_per_owned_sphere() const;
 
  private:
@@ -217,16 +220,13 @@ class DomainSim {
   bool ghosts_fresh_ = true;  ///< the local set was rebuilt: its ghosts carry no predicted velocities
   std::unordered_map<std::uint64_t, std::uint32_t> slot_of_id_;
   std::vector<std::vector<std::uint32_t>> send_, recv_;  // halo: owned slots sent to / ghost slots from each rank
-  // replicated for gravity: all spheres (id, m, s constant; x gathered), global order
-  Spheres gsp_;
-  std::vector<std::uint8_t> gmine_;
-  std::vector<Vec3> gacc_;
-  std::vector<double> gpot_;  ///< potential of the own spheres (global order) when want_pot_
+  std::vector<std::uint64_t> all_id_;  ///< ids of all spheres by global index (history keys)
+  std::vector<double> pot_;  ///< potential of the own spheres (local slots) at pot_step_
   bool want_pot_ = false;
   std::int64_t pot_step_ = -1;
   std::vector<common::Field> carried_;  // carried per-sphere fields of this rank's index block (carried_block)
   std::unique_ptr<ContactSystem> contacts_;
-  std::unique_ptr<TreeGravity> tree_;
+  std::unique_ptr<DistributedTree> tree_;
   ContactStats cstats_;
   LevelRules lr_;  // multi-rate: levels of the local set (owned + ghosts)
   std::vector<std::int64_t> topen_;
