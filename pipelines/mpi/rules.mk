@@ -12,6 +12,7 @@
 #   mpm-mpi-outflow-bench : mpm-frag's outflow record written together: memory and wall against MPM_OUTFLOW_OLD
 #   nbody-rows-bench    : ms per series row of ssdem-grav, serial and on 2 ranks
 #   nbody-mpi-files-bench: ssdem-grav's collective files on 2 ranks: memory and wall vs another binary
+#   nbody-mpi-gravity-bench: ssdem-grav's gravity (locally essential trees) on 2-3 ranks vs another binary
 #   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
 #                       paper's 10^6 spheres on 64, 512 and 4 096 ranks (stated model, seconds)
 # Included by pipelines/Makefile (ROOT, PY, JOBS, MPI_BUILD, build-mpi).
@@ -72,6 +73,17 @@ nbody-mpi-files-bench: build-mpi ## ssdem-grav on 2 ranks: memory and wall of co
 	test -f $(PAPER_SPHERES) || { echo "no $(PAPER_SPHERES): run make -C pipelines nbody-rows-bench first" >&2; exit 2; }
 	$(ROOT)/pipelines/mpi/nbody_files_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_FILES_OLD) $(RUNS)/nbody-mpi-files \
 	  $(MPI_SCALING_REPS) $(PAPER_SPHERES) $(MPIRUN)
+
+# ssdem-grav's gravity on MPI ranks (issue 19): this build against NBODY_GRAVITY_OLD (an MPI
+# ssdem-grav of another commit) with gravity every step on a 151 837-sphere pile (2 and 3 ranks)
+# and two bodies of 89 012 spheres (2 ranks): wall, peak memory of the largest rank, gravity
+# traffic per step, the tree's figures, and an h5diff of the two final checkpoints;
+# runs/nbody-mpi-gravity/gravity.md.
+.PHONY: nbody-mpi-gravity-bench
+nbody-mpi-gravity-bench: build-mpi ## ssdem-grav's gravity on 2-3 ranks: memory, traffic, wall vs NBODY_GRAVITY_OLD
+	@test -n "$(NBODY_GRAVITY_OLD)" || { echo "set NBODY_GRAVITY_OLD=<an MPI ssdem-grav of another commit>"; exit 2; }
+	$(ROOT)/pipelines/mpi/nbody_gravity_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_GRAVITY_OLD) \
+	  $(RUNS)/nbody-mpi-gravity $(MPI_SCALING_REPS) $(MPIRUN)
 
 # Cost of ssdem-grav's series rows, serial and on 2 ranks (issues 15, 19), this build against
 # NBODY_ROWS_OLD / NBODY_ROWS_OLD_MPI (default: this build itself); runs/nbody-rows/rows.md.

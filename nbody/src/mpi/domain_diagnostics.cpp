@@ -21,7 +21,9 @@ Diagnostics DomainSim::diagnostics() {
     const bool want = want_pot_;
     const double gb = stats_.bytes_gravity;
     want_pot_ = true;
+    const std::optional<LetStats> tree_stats = tree_ ? std::optional<LetStats>(tree_->stats()) : std::nullopt;
     compute_gravity();
+    if (tree_) tree_->set_stats(*tree_stats);  // the row's evaluation is not the integration's
     want_pot_ = want;
     ag_ = keep;
     grav_step_ = gs;

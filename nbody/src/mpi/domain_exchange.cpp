@@ -86,15 +86,10 @@ void DomainSim::exchange() {
   const std::uint64_t most = *std::max_element(counts.begin(), counts.end());
   const double mean = static_cast<double>(total) / comm_.size;
   if (static_cast<double>(most) > (1.0 + imbalance_) * mean && static_cast<double>(most) - mean >= 1.0) {
-    struct GX {
-      std::uint64_t g;
-      double x[3];
-    };
-    std::vector<GX> mine;
-    for (std::uint32_t i : own_) mine.push_back(GX{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}});
-    std::vector<Vec3> x(total);
-    for (const GX& p : comm_.gather(mine)) x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
-    orb_ = OrbTree(x, comm_.size);
+    std::vector<Vec3> mine;  // no rank gathers all positions: the cuts by collective selection
+    mine.reserve(own_.size());
+    for (std::uint32_t i : own_) mine.push_back(sp_.x[i]);
+    orb_ = OrbTree::collective(comm_, mine);
     ++stats_.rebalances;
   }
   std::vector<int> dest(sp_.size());

@@ -16,7 +16,12 @@ namespace ssdem::mpi {
 DomainSim::Packed DomainSim::pack_local() const {
   Packed p;
   for (std::uint32_t i : own_) pack_owned(i, p.spheres);
-  for (const HistoryRecord& r : owned_history()) put(p.history, r);
+  for (const HistoryRecord& r : owned_history()) {
+    const auto [first, second] = history_key(r);
+    put(p.history, first);
+    put(p.history, second);
+    put(p.history, r);
+  }
   p.step = step_;
   p.time = time_;
   p.grav_step = grav_step_;
@@ -45,7 +50,11 @@ DomainSim::Local DomainSim::unpack(const std::vector<char>& spheres, const std::
     st.level = std::move(mr.level);
     st.tau_prev = std::move(mr.tau_prev);
   }
-  for (std::size_t off = 0; off < history.size();) st.history.push_back(get<HistoryRecord>(history, off));
+  for (std::size_t off = 0; off < history.size();) {
+    const std::uint64_t first = get<std::uint64_t>(history, off), second = get<std::uint64_t>(history, off);
+    L.hkey.emplace_back(first, second);
+    st.history.push_back(get<HistoryRecord>(history, off));
+  }
   L.has_prev = scalars.has_prev;
   st.step = scalars.step;
   st.time = scalars.time;
@@ -54,17 +63,10 @@ DomainSim::Local DomainSim::unpack(const std::vector<char>& spheres, const std::
   return L;
 }
 
-std::vector<std::pair<std::uint64_t, std::uint64_t>> DomainSim::history_rows(const std::vector<HistoryRecord>& h) const {
-  std::unordered_map<std::uint64_t, std::uint64_t> g_of_id;  // ids are constant: all_id_ holds them all
-  g_of_id.reserve(all_id_.size());
-  for (std::size_t g = 0; g < all_id_.size(); ++g) g_of_id.emplace(all_id_[g], g);
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> key(h.size());
-  for (std::size_t k = 0; k < h.size(); ++k) {
-    const HistoryRecord& r = h[k];
-    const bool wall = r.id_b >= kWallIdBase;  // pairs by (index a, index b), then walls by (index, wall)
-    key[k] = {(wall ? std::uint64_t{1} << 63 : 0) | g_of_id.at(r.id_a), wall ? r.id_b : g_of_id.at(r.id_b)};
-  }
-  return key;
+std::pair<std::uint64_t, std::uint64_t> DomainSim::history_key(const HistoryRecord& r) const {
+  const bool wall = r.id_b >= kWallIdBase;  // pairs by (index a, index b), then walls by (index, wall)
+  const std::uint64_t ga = gidx_[slot_of_id_.at(r.id_a)];
+  return {(wall ? std::uint64_t{1} << 63 : 0) | ga, wall ? r.id_b : gidx_[slot_of_id_.at(r.id_b)]};
 }
 
 DomainSim::Local DomainSim::local_state() const {
@@ -97,7 +99,7 @@ SimState DomainSim::assemble(const Packed& mine) const {
   stats_.bytes_other += comm_.bytes_sent - b0;
   if (comm_.rank != 0) return SimState{};
   Local L = unpack(all, hall, mine);
-  const std::size_t n = all_id_.size();
+  const std::size_t n = n_global_;
   SimState st;
   st.sp.resize(n);
   std::vector<char> b;
@@ -125,7 +127,7 @@ SimState DomainSim::assemble(const Packed& mine) const {
   st.gravity_step = L.st.gravity_step;
   st.gravity_block = L.st.gravity_block;
   // history in the one-rank order
-  const auto key = history_rows(L.st.history);
+  const auto& key = L.hkey;
   std::vector<std::size_t> order(key.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return key[p] < key[q]; });

@@ -47,7 +47,7 @@ bool DomainSim::need_exchange() {
       mine.push_back(Mover{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}, sp_.s[i], comm_.rank});
   const std::vector<Mover> all = comm_.gather(mine);
   if (all.empty()) return false;
-  if (all.size() > std::max<std::size_t>(64, all_id_.size() / 16)) return true;
+  if (all.size() > std::max<std::size_t>(64, n_global_ / 16)) return true;
   ++stats_.mover_checks;
   // a near pair of foreign mover m and own sphere j: covered iff m is a ghost here and j was sent
   // to m's rank (x_j(ex) within the reach of that rank's box at the exchange)

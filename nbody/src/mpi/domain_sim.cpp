@@ -46,7 +46,7 @@ void DomainSim::setup(const Spheres& all) {
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<DistributedTree>(comm_, cfg_.gravity);
   setup_multirate();
-  all_id_ = all.id;
+  n_global_ = all.size();
   const std::size_t lo = common::mpi::dense_first(all.size(), comm_.size, comm_.rank),
                     hi = common::mpi::dense_first(all.size(), comm_.size, comm_.rank + 1);
   carried_.clear();
@@ -120,7 +120,7 @@ void DomainSim::compute_gravity() {
     const std::vector<GX> all = comm_.gather(mine);
     stats_.wall_comm += omp_get_wtime() - c0;
     Spheres g;
-    g.resize(all_id_.size());
+    g.resize(n_global_);
     for (const GX& p : all) {
       g.x[p.g] = Vec3(p.x[0], p.x[1], p.x[2]);
       g.m[p.g] = p.m;
@@ -239,7 +239,7 @@ void DomainSim::close_gravity_block() {
   if (cfg_.adaptive_gravity) {
     next = 1;
     if (cfg_.self_gravity) {
-      const std::size_t n = all_id_.size();
+      const std::size_t n = n_global_;
       // global sums, exact over the ranks: the bits of one rank's (gravity_cadence.hpp)
       common::ExactSum g2s = cadence_g2(ag_, &own_);
       common::mpi::allreduce(comm_, g2s);
@@ -293,8 +293,7 @@ double DomainSim::bytes_per_owned_sphere() const {
   double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
   if (cfg_.multirate) b += nl * (4 + 8 + 3 * 8 + 4);  // levels/flags, opening step, h_open, tau_prev, tau, active
   if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
-  b += 8.0 * static_cast<double>(all_id_.size());  // ids of all spheres (history keys)
-  if (cfg_.self_gravity) b += nl * 8;               // potentials
+  b += static_cast<double>(pot_.capacity()) * 8;    // potentials (rows)
   if (tree_) b += tree_->bytes();
   return own_.empty() ? b : b / static_cast<double>(own_.size());
 }

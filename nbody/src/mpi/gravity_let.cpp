@@ -2,6 +2,8 @@
 /// DistributedTree (mpi/gravity_let.hpp): the evaluation, the root cube, the top tree by
 /// level-wise global counts, the gravity owners and the round trip of the spheres to them.
 /// Building, moments and the locally essential trees: gravity_let_tree.cpp.
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -22,6 +24,12 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
     acc[i] = Vec3::Zero();
     if (pot) (*pot)[i] = 0.0;
   }
+  double t = omp_get_wtime();
+  auto lap = [&t](double& acc_s) {
+    const double now = omp_get_wtime();
+    acc_s += now - t;
+    t = now;
+  };
   Vec3 lo, hi;
   double smax;
   std::uint64_t n;
@@ -34,8 +42,10 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
   std::vector<std::uint32_t> group_of;
   top_tree(sp, own, lo, hi, n, group_of);
   assign_owners();
+  lap(st_.t_top);
   std::vector<std::vector<std::uint32_t>> sent;
   const std::vector<GravityParticle> mine = to_owners(sp, own, gidx, group_of, sent);
+  lap(st_.t_owners);
   {
     Vec3 c;
     double half;
@@ -44,7 +54,9 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
   }
   build_local(mine);
   share_maximal();
+  lap(st_.t_build);
   exchange_let();
+  lap(st_.t_let);
   // walk the own groups, then return each result to the sphere's contact owner
   const std::size_t ng = mine.size();
   std::vector<Vec3> a(ng, Vec3::Zero());
@@ -52,6 +64,7 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
   if (pot) ph.assign(ng, 0.0);
   double cells = 0, parts = 0;
   tree::walk(d_, p_, d_.groups, a, pot ? &ph : nullptr, cells, parts);
+  lap(st_.t_walk);
   if (ng > 0) {
     d_.stats.cell_interactions = cells / static_cast<double>(ng);
     d_.stats.particle_interactions = parts / static_cast<double>(ng);
@@ -79,6 +92,7 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
       if (pot) (*pot)[sent[r][k]] = v[3];
     }
   }
+  lap(st_.t_owners);
 }
 
 void DistributedTree::root_box(const Spheres& sp, const std::vector<std::uint32_t>& own, Vec3& lo, Vec3& hi,
@@ -128,9 +142,9 @@ void DistributedTree::top_tree(const Spheres& sp, const std::vector<std::uint32_
   std::vector<std::uint8_t> oct(no, 0);
   std::vector<std::uint32_t> open;
   if (!root.group) open.push_back(0);
-  std::vector<std::int32_t> slot;
+  std::vector<std::int32_t> slot;  // position in `open` of a top cell (-1 outside `open`)
   while (!open.empty()) {
-    slot.assign(top_.size(), -1);
+    slot.resize(top_.size(), -1);
     for (std::size_t j = 0; j < open.size(); ++j) slot[open[j]] = static_cast<std::int32_t>(j);
     std::vector<long long> cnt(8 * open.size(), 0);
     for (std::size_t k = 0; k < no; ++k) {
@@ -173,6 +187,7 @@ void DistributedTree::top_tree(const Spheres& sp, const std::vector<std::uint32_
         cell[k] = ch;
       }
     }
+    for (std::uint32_t k : open) slot[k] = -1;
     open.swap(next);
   }
 }
@@ -226,7 +241,9 @@ std::vector<DistributedTree::GravityParticle> DistributedTree::to_owners(
   for (std::size_t k = 0; k < own.size(); ++k) {
     const std::uint32_t i = own[k];
     const int r = top_[group_of[k]].owner;
-    put(out[r], GravityParticle{gidx[i], {sp.x[i].x(), sp.x[i].y(), sp.x[i].z()}, sp.m[i], sp.s[i], group_of[k]});
+    put(out[r], gidx[i]);  // field by field: 52 B, no padding on the wire
+    for (double v : {sp.x[i].x(), sp.x[i].y(), sp.x[i].z(), sp.m[i], sp.s[i]}) put(out[r], v);
+    put(out[r], group_of[k]);
     sent[r].push_back(i);
   }
   const double b0 = comm_.bytes_sent;
@@ -235,10 +252,15 @@ std::vector<DistributedTree::GravityParticle> DistributedTree::to_owners(
   std::vector<GravityParticle> got;
   std::vector<std::uint32_t> src, pos;
   for (int r = 0; r < comm_.size; ++r) {
-    const std::size_t m = in[r].size() / sizeof(GravityParticle);
+    constexpr std::size_t kWire = 8 + 5 * 8 + 4;
+    const std::size_t m = in[r].size() / kWire;
     std::size_t off = 0;
     for (std::size_t k = 0; k < m; ++k) {
-      got.push_back(get<GravityParticle>(in[r], off));
+      GravityParticle p{};
+      p.g = get<std::uint64_t>(in[r], off);
+      for (double* v : {&p.x[0], &p.x[1], &p.x[2], &p.m, &p.s}) *v = get<double>(in[r], off);
+      p.group = get<std::uint32_t>(in[r], off);
+      got.push_back(p);
       src.push_back(static_cast<std::uint32_t>(r));
       pos.push_back(static_cast<std::uint32_t>(k));
     }

@@ -245,7 +245,11 @@ double DistributedTree::bytes() const {
   for (const std::vector<double>* v : {&d_.px, &d_.py, &d_.pz, &d_.pm, &d_.ph, &gm_, &gs_})
     b += static_cast<double>(v->capacity() * sizeof(double));
   b += static_cast<double>(gx_.capacity() * sizeof(Vec3));
-  b += static_cast<double>((back_src_.capacity() + back_pos_.capacity()) * sizeof(std::uint32_t));
+  b += static_cast<double>((back_src_.capacity() + back_pos_.capacity() + d_.leaves.capacity() +
+                            d_.groups.capacity() + dfs_groups_.capacity()) *
+                           sizeof(std::uint32_t));
+  for (const auto& m : maximal_) b += static_cast<double>(m.capacity() * sizeof(std::uint32_t));
+  b += static_cast<double>((box_lo_.capacity() + box_hi_.capacity()) * sizeof(Vec3) + box_h_.capacity() * 8);
   return b;
 }
 

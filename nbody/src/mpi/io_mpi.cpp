@@ -59,7 +59,7 @@ void write_checkpoint_mpi(Comm& comm, const std::string& path, const DomainSim& 
     blk.tau_prev = b.plan.move(st.tau_prev, 1);
   }
   std::vector<cm::RowKey> hkey;
-  for (const auto& [first, second] : sim.history_rows(st.history)) hkey.push_back(cm::RowKey{first, second});
+  for (const auto& [first, second] : mine.hkey) hkey.push_back(cm::RowKey{first, second});
   const cm::SortedRows hplan(comm, hkey);
   const std::vector<char> hb =
       hplan.move(reinterpret_cast<const char*>(st.history.data()), sizeof(HistoryRecord));  // plain records

@@ -239,6 +239,18 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   if (cfg.multirate)
     os << "; multi-rate equalisation rounds " << ds.level_rounds << " in " << ds.steps << " base steps";
   os << "; steps with a mover check " << ds.mover_checks;
+  if (const DistributedTree* tr = sim->tree(); tr && tr->stats().evaluations > 0) {
+    const LetStats& g = tr->stats();
+    const double ne = g.evaluations;
+    os << "; gravity tree per evaluation: " << g.gravity_spheres / ne << " spheres walked here ("
+       << g.moved_spheres / ne << " from other ranks), imported " << g.imported_particles / ne << " particles and "
+       << g.imported_nodes / ne << " cells, sent " << (g.bytes_owners + g.bytes_top + g.bytes_let) / ne
+       << " B (to and from gravity owners " << g.bytes_owners / ne << ", top tree " << g.bytes_top / ne
+       << ", locally essential trees " << g.bytes_let / ne << "); top cells " << g.top_cells << ", maximal cells "
+       << g.maximal_cells << ", tree memory " << tr->bytes() << " B; seconds per evaluation: top tree "
+       << g.t_top / ne << ", to and from owners " << g.t_owners / ne << ", build " << g.t_build / ne
+       << ", locally essential trees " << g.t_let / ne << ", walk " << g.t_walk / ne;
+  }
   std::string lines;
   const LevelStats ls = sim->gather_level_stats();
   if (cfg.multirate)

@@ -112,7 +112,7 @@ class DomainSim {
   const PhaseTimes& times() const { return times_; }
   std::size_t owned() const { return own_.size(); }
   std::size_t ghosts() const { return sp_.size() - own_.size(); }
-  std::size_t global_count() const { return all_id_.size(); }
+  std::size_t global_count() const { return n_global_; }
   /// The distributed tree (null with direct gravity or without self-gravity).
   const DistributedTree* tree() const { return tree_.get(); }
   /// Collective: contacts between spheres of different ranks (summed over the ranks).
@@ -135,23 +135,27 @@ class DomainSim {
   struct Local {
     SimState st;
     std::vector<std::uint64_t> row;
+    /// per history record its file order key (history_key), taken when the state was packed
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> hkey;
     bool has_prev = false;  ///< the state has a_prev, alpha_prev (every rank alike, even one with no spheres)
   };
   Local local_state() const;
   /// The part of the last kept state (set_keep_last_good); nullopt where none was kept (on every
   /// rank alike).
   std::optional<Local> last_good_local() const;
-  /// The file order of history records (the one-rank order): pairs by (index a, index b), then
-  /// wall contacts by (index, wall id), as (first, second) keys.
-  std::vector<std::pair<std::uint64_t, std::uint64_t>> history_rows(const std::vector<HistoryRecord>& h) const;
+  /// The file order key of a history record this rank owns (the one-rank order): pairs by (index
+  /// a, index b), then wall contacts by (index, wall id), as (first, second). Both members are in
+  /// the local set (the record's contact is); keys are taken when a state is packed, so no rank
+  /// needs the ids of all spheres.
+  std::pair<std::uint64_t, std::uint64_t> history_key(const HistoryRecord& r) const;
   /// The carried per-sphere fields (e.g. damage from mpm2spheres) of this rank's fixed block of
   /// sphere indices [dense_first(N, P, r), dense_first(N, P, r + 1)) (common/sorted_rows.hpp), in
   /// index order: the rows a collective writer gives this rank. No rank holds all of them.
   const std::vector<common::Field>& carried_block() const { return carried_; }
   /// Collective: the multi-rate level statistics of all ranks (rank 0; sums; empty in single rate).
   LevelStats gather_level_stats() const;
-  /// Bytes per sphere held by this rank (local set, contact system, gravity tree, the ids of all
-  /// spheres), divided by the spheres it owns.
+  /// Bytes per sphere held by this rank (local set, contact system, gravity tree), divided by the
+  /// spheres it owns.
   double bytes_per_owned_sphere() const;
 
  private:
@@ -197,7 +201,7 @@ class DomainSim {
   };
   Packed pack_local() const;
   SimState assemble(const Packed& mine) const;  ///< collective: the full state on rank 0
-  /// pack_owned records (of one or more ranks, concatenated) and history records -> arrays in
+  /// pack_owned records (of one or more ranks, concatenated) and (key, history record) triples -> arrays in
   /// arrival order, with the scalars of `scalars`.
   Local unpack(const std::vector<char>& spheres, const std::vector<char>& history, const Packed& scalars) const;
   std::int64_t keep_every_ = 0;
@@ -220,7 +224,7 @@ class DomainSim {
   bool ghosts_fresh_ = true;  ///< the local set was rebuilt: its ghosts carry no predicted velocities
   std::unordered_map<std::uint64_t, std::uint32_t> slot_of_id_;
   std::vector<std::vector<std::uint32_t>> send_, recv_;  // halo: owned slots sent to / ghost slots from each rank
-  std::vector<std::uint64_t> all_id_;  ///< ids of all spheres by global index (history keys)
+  std::size_t n_global_ = 0;  ///< spheres of the whole run
   std::vector<double> pot_;  ///< potential of the own spheres (local slots) at pot_step_
   bool want_pot_ = false;
   std::int64_t pot_step_ = -1;

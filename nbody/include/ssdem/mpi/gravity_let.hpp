@@ -23,6 +23,8 @@
 ///  3. Gravity ownership: the groups in tree (depth-first, Morton) order, split into P
 ///     contiguous runs of equal sphere count; every sphere is sent to its group's owner
 ///     (alltoallv, 52 B, and its acceleration comes back, 24 B, 32 B with the potential).
+///     The top tree is O(N/group) per rank (~9 B per sphere of the run at group = 64: a TopCell
+///     and a tree node per cell): the one replicated structure.
 ///     The gravity owner need not be the contact owner (ORB): the two decompositions are
 ///     independent, and the movers between them are the price (see nbody/README.md "MPI").
 ///  4. Each rank builds its groups' subtrees (tree::build_subtree, the one-rank code) and the
@@ -61,6 +63,9 @@ struct LetStats {
   double top_cells = 0, maximal_cells = 0;        ///< last evaluation
   double gravity_spheres = 0, moved_spheres = 0;  ///< own groups' spheres, those from other ranks
   double imported_nodes = 0, imported_particles = 0;
+  /// seconds: root box and top tree, spheres to their owners and back, the own groups' subtrees
+  /// and the maximal cells, the locally essential trees, the walk
+  double t_top = 0, t_owners = 0, t_build = 0, t_let = 0, t_walk = 0;
 };
 
 class DistributedTree {
@@ -72,8 +77,11 @@ class DistributedTree {
                std::vector<double>* pot, const std::vector<std::uint64_t>& gidx);
   const LetStats& stats() const { return st_; }
   const TreeStats& tree_stats() const { return d_.stats; }
-  /// Bytes held between evaluations (capacities of the tree and its buffers).
+  /// Bytes held between evaluations (capacities of the tree and its buffers; an evaluation's
+  /// message buffers, ~300 B per sphere it moves, come and go within it).
   double bytes() const;
+  /// Replace the counters (a caller that must not count an evaluation restores them).
+  void set_stats(const LetStats& s) { st_ = s; }
 
  private:
   struct TopCell {

@@ -9,9 +9,17 @@
 /// Ties on a cut go to the upper side (the split count is then off by the tied spheres).
 /// Determinism: built from positions in global-index order with ties broken by index, so every
 /// rank builds the same tree from the same positions.
+/// Collective build (OrbTree::collective): the same tree from each rank's own positions, no rank
+/// holding all of them (orb_collective.cpp): per level of the tree, one allreduce of every node's
+/// bounding box and count; the split value, the want-th smallest coordinate, by bisection on the
+/// coordinates' ordered bit patterns (one allreduce of counts per halving, at most 64); then one
+/// allreduce of the count below it and the largest coordinate below it, which give the cut exactly
+/// as above. O(n_own) work per halving, O(nodes of the level) bytes per allreduce.
 #pragma once
+#include <utility>
 #include <vector>
 
+#include "ssdem/mpi/comm.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem::mpi {
@@ -22,6 +30,12 @@ class OrbTree {
   OrbTree(const std::vector<Vec3>& x, int nranks);
   /// One rank owning all space (before the first decomposition).
   OrbTree() = default;
+  /// Collective: the tree OrbTree(x of all ranks' spheres, comm.size) builds, from this rank's
+  /// own positions only (file comment).
+  static OrbTree collective(Comm& comm, const std::vector<Vec3>& own);
+  /// The cuts in depth-first order (lower side first): (axis, cut) of every inner node, to compare
+  /// two trees.
+  std::vector<std::pair<int, double>> cuts() const;
   /// The rank owning position p.
   int owner(const Vec3& p) const;
 
