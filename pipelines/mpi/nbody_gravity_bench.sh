@@ -42,7 +42,8 @@ for r in $(seq "$ROUNDS"); do
         --set "output.directory=\"$d\"" > "$d.log" 2>&1 || { echo "$case $v failed: $d.log"; exit 1; }
       t1=$(date +%s.%N)
       g=$(grep -o 'gravity [0-9.e+-]* B; communication' "$d/run_info.txt" | awk '{print $2}' | sort -g | tail -1)
-      echo "$case $v $(echo "$t1 - $t0" | bc) $(grep -o 'RSS [0-9]*' "$d.log" | awk '{print $2}' | sort -n | tail -1) $g" >> "$OUT/res.txt"
+      rss=$(grep -o 'RSS [0-9]*' "$d.log" | awk '{print $2}' | sort -n | tail -1)
+      echo "$case $v $(echo "$t1 - $t0" | bc) ${rss:-0} $g" >> "$OUT/res.txt"
       echo "round $r $case $v: $(tail -1 "$OUT/res.txt")"
     done
   done
@@ -54,13 +55,14 @@ w, m, g = {}, {}, {}
 for line in open(f"{out}/res.txt"):
     case, v, wall, rss, gb = line.split()
     w.setdefault((case, v), []).append(float(wall))
-    m.setdefault((case, v), []).append(int(rss) / 1024)
+    if int(rss) > 0:  # 0: the ranks' /usr/bin/time lines interleaved in the log
+        m.setdefault((case, v), []).append(int(rss) / 1024)
     g[(case, v)] = float(gb)
 lines = ["| scene, ranks | binary | wall (s), median | peak RSS of the largest rank (MiB), min-max | gravity sent per rank per step (B), largest rank |",
          "|---|---|---|---|---|"]
 for case in ("pile_np2", "bodies_np2", "pile_np3"):
     for v in ("old", "new"):
-        lines.append(f"| {case} | {v} | {statistics.median(w[(case, v)]):.2f} | {min(m[(case, v)]):.0f}-{max(m[(case, v)]):.0f} | {g[(case, v)]:.4g} |")
+        lines.append(f"| {case} | {v} | {statistics.median(w[(case, v)]):.2f} | {min(m.get((case, v), [0])):.0f}-{max(m.get((case, v), [0])):.0f} | {g[(case, v)]:.4g} |")
 open(f"{out}/gravity.md", "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
 PY

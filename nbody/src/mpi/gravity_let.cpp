@@ -41,7 +41,7 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
   if (n == 0) return;
   std::vector<std::uint32_t> group_of;
   top_tree(sp, own, lo, hi, n, group_of);
-  assign_owners();
+  assign_owners(group_of);
   lap(st_.t_top);
   std::vector<std::vector<std::uint32_t>> sent;
   const std::vector<GravityParticle> mine = to_owners(sp, own, gidx, group_of, sent);
@@ -192,7 +192,7 @@ void DistributedTree::top_tree(const Spheres& sp, const std::vector<std::uint32_
   }
 }
 
-void DistributedTree::assign_owners() {
+void DistributedTree::assign_owners(const std::vector<std::uint32_t>& group_of) {
   dfs_groups_.clear();
   std::vector<std::uint32_t> stack{0};
   while (!stack.empty()) {
@@ -204,15 +204,19 @@ void DistributedTree::assign_owners() {
     }
     for (int j = top_[k].nchild - 1; j >= 0; --j) stack.push_back(static_cast<std::uint32_t>(top_[k].child + j));
   }
-  // contiguous runs of groups in tree order, equal sphere counts (each group to the rank its
-  // middle sphere falls in)
-  const std::uint64_t n = top_[0].count, P = static_cast<std::uint64_t>(comm_.size);
-  std::uint64_t before = 0;
-  for (std::uint32_t g : dfs_groups_) {
-    const std::uint64_t r = (2 * before + top_[g].count) * P / (2 * n);
-    top_[g].owner = static_cast<std::int32_t>(std::min(r, P - 1));
-    before += top_[g].count;
-  }
+  // each group to the rank holding most of its spheres (the lowest such rank on a tie): the
+  // contact domains are compact boxes balanced by count, so only the spheres of groups cut by a
+  // domain boundary travel, and the gravity work is balanced as the spheres are
+  std::vector<std::int32_t> pos(top_.size(), -1);
+  for (std::size_t j = 0; j < dfs_groups_.size(); ++j) pos[dfs_groups_[j]] = static_cast<std::int32_t>(j);
+  struct CountRank {
+    int count, rank;
+  };
+  std::vector<CountRank> cr(dfs_groups_.size(), CountRank{0, comm_.rank});
+  for (std::uint32_t g : group_of) ++cr[pos[g]].count;
+  MPI_Allreduce(MPI_IN_PLACE, cr.data(), static_cast<int>(cr.size()), MPI_2INT, MPI_MAXLOC, comm_.c);
+  st_.bytes_top += static_cast<double>(cr.size() * sizeof(CountRank));
+  for (std::size_t j = 0; j < dfs_groups_.size(); ++j) top_[dfs_groups_[j]].owner = cr[j].rank;
   for (std::size_t k = top_.size(); k-- > 0;) {  // children after their parent
     TopCell& t = top_[k];
     if (t.group) continue;

@@ -103,7 +103,7 @@ class DistributedTree {
                 double& smax, std::uint64_t& n);
   void top_tree(const Spheres& sp, const std::vector<std::uint32_t>& own, const Vec3& lo, const Vec3& hi,
                 std::uint64_t n, std::vector<std::uint32_t>& group_of);
-  void assign_owners();
+  void assign_owners(const std::vector<std::uint32_t>& group_of);
   std::vector<GravityParticle> to_owners(const Spheres& sp, const std::vector<std::uint32_t>& own,
                                          const std::vector<std::uint64_t>& gidx,
                                          const std::vector<std::uint32_t>& group_of,
