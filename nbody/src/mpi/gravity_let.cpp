@@ -270,15 +270,29 @@ std::vector<DistributedTree::GravityParticle> DistributedTree::to_owners(
     }
     if (r != comm_.rank) st_.moved_spheres += static_cast<double>(m);
   }
-  // tree order of the groups, then the global index: a group's spheres in one rank's order
-  std::vector<std::uint32_t> rank_of_group(top_.size(), 0);
-  for (std::size_t j = 0; j < dfs_groups_.size(); ++j) rank_of_group[dfs_groups_[j]] = static_cast<std::uint32_t>(j);
+  // tree order of the groups, then the global index: a group's spheres in one rank's order.
+  // A counting sort by group (stable: each sender's spheres arrive in ascending index), then the
+  // few groups whose spheres came from more than one rank sorted by index.
+  std::vector<std::uint32_t> start(top_.size() + 1, 0);
+  for (const GravityParticle& p : got) ++start[p.group + 1];
+  {
+    std::uint32_t run = 0;  // groups in tree order
+    std::vector<std::uint32_t> first(top_.size(), 0);
+    for (std::uint32_t g : dfs_groups_) {
+      first[g] = run;
+      run += start[g + 1];
+    }
+    for (std::uint32_t g : dfs_groups_) start[g] = first[g];
+  }
   std::vector<std::size_t> order(got.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    const std::uint32_t ga = rank_of_group[got[a].group], gb = rank_of_group[got[b].group];
-    return ga != gb ? ga < gb : got[a].g < got[b].g;
-  });
+  for (std::size_t k = 0; k < got.size(); ++k) order[start[got[k].group]++] = k;
+  for (std::size_t b = 0; b < order.size();) {
+    std::size_t e = b + 1;
+    while (e < order.size() && got[order[e]].group == got[order[b]].group) ++e;
+    auto by_index = [&](std::size_t x, std::size_t y) { return got[x].g < got[y].g; };
+    if (!std::is_sorted(order.begin() + b, order.begin() + e, by_index)) std::sort(order.begin() + b, order.begin() + e, by_index);
+    b = e;
+  }
   std::vector<GravityParticle> mine(got.size());
   back_src_.resize(got.size());
   back_pos_.resize(got.size());
