@@ -12,10 +12,22 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
   ghosts    g = k_g n^(2/3)               k_g from the measured run: 487 ghosts behind one cut of a
                                           body of 8 225 spheres (area ~ 8225^(2/3) sphere diameters^2
                                           -> 1.2 per unit area); an ORB box has up to 6 cut faces
-  gravity   (E / S) (b N + w n + t_ag)    replicated top (domain_sim.hpp): every rank builds the
-                                          tree of all N spheres (b per sphere) and walks its own (w);
-                                          positions allgathered (32 B per sphere received per rank
-                                          at bandwidth B); E evaluations in S base steps
+  gravity   (E / S) (t_loc n + w n + t_let + t_top)
+                                          locally essential trees (mpi/gravity_let.hpp, since
+                                          2026-12-04): per evaluation each rank counts, builds and
+                                          moments its own groups (t_loc per own sphere) and walks
+                                          them (w); it imports the cells and particles its groups
+                                          open, L = k_let n^(2/3) per cut face (k_let B measured
+                                          behind one cut, 6 faces for an interior ORB box), sent at
+                                          bandwidth B and unpacked at c_let per byte; the top tree's
+                                          level counts (~1 B per sphere of the run, an allreduce:
+                                          2 x that / B) and the maximal cells (m = 1 + k_m
+                                          (n/40)^(2/3) per rank, 144 B each, allgathered: P m 144 B / B),
+                                          plus (levels + 5) collectives a (1 + log2 P);
+                                          E evaluations in S base steps. Before: every rank built
+                                          the tree of all N (146 ns per sphere) from allgathered
+                                          positions (32 B per sphere of the run), which stalled the
+                                          wall at ~3.5 h beyond 64 ranks (--replicated)
   messages  3 a + g m_h / B + 3 a (1 + log2 P)
                                           three point-to-point halos (opened ghosts' state, levels,
                                           synchronised ghosts' velocities: m_h = 33 B per ghost and
@@ -40,7 +52,15 @@ ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
 ap.add_argument("--c", type=float, default=23.5, help="ns per own sphere per base step, no gravity (2 x 1 run)")
 ap.add_argument("--fg0", type=float, default=487 / 4112, help="ghost fraction of the measured run")
 ap.add_argument("--kg", type=float, default=6 * 1.2, help="ghosts per n^(2/3) (6 faces x 1.2)")
-ap.add_argument("--b", type=float, default=146.0, help="ns per sphere for the tree build (replicated)")
+ap.add_argument("--b", type=float, default=146.0, help="ns per sphere for the replicated tree build (--replicated)")
+ap.add_argument("--replicated", action="store_true", help="the former gravity: replicated positions and tree")
+ap.add_argument("--tloc", type=float, default=85.0,
+                help="ns per own sphere: top-tree counts, build and moments of the own groups (measured, 2 ranks)")
+ap.add_argument("--klet", type=float, default=890.0, help="LET bytes per n^(2/3) per cut face (measured behind one cut)")
+ap.add_argument("--faces", type=float, default=6.0, help="cut faces of a rank's domain (interior ORB box)")
+ap.add_argument("--clet", type=float, default=1.3, help="ns per LET byte to export and import (measured)")
+ap.add_argument("--km", type=float, default=0.4, help="maximal cells per rank: 1 + km (n/40)^(2/3)")
+ap.add_argument("--levels", type=float, default=10.0, help="levels of the top tree (one allreduce each)")
 ap.add_argument("--w", type=float, default=1900.0, help="ns per own sphere for the tree walk (theta 0.25)")
 ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="gravity evaluations per base step")
 ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
@@ -53,7 +73,8 @@ ap.add_argument("--N", type=float, default=8225 * 125, help="spheres (the paper'
 ap.add_argument("--steps", type=float, default=5 * 3242057, help="base steps of the 4.5 h run")
 args = ap.parse_args()
 
-rows = ["| ranks P | own n | ghosts g (g/n) | compute µs | gravity µs (build / walk / gather) | "
+rows = ["| ranks P | own n | ghosts g (g/n) | compute µs | gravity µs (build / walk / "
+        + ("gather" if args.replicated else "LET, top and latency") + ") | "
         "communication µs | series rows µs | per base step µs | communication share | 4.5 h wall | core-hours |",
         "|---|---|---|---|---|---|---|---|---|---|---|"]
 for P in (64, 512, 4096):
@@ -61,9 +82,16 @@ for P in (64, 512, 4096):
     g = args.kg * n ** (2 / 3)
     comp = args.c * 1e-3 * n * (1 + g / n) / (1 + args.fg0)
     e = args.evals_per_step
-    build = e * args.b * 1e-3 * args.N
+    lat = args.alpha * (1 + math.log2(P))
+    if args.replicated:
+        build = e * args.b * 1e-3 * args.N
+        gather = e * args.N * 32 / (args.bw * 1e3)
+    else:
+        let_b = args.klet * n ** (2 / 3) * args.faces
+        m = 1 + args.km * (n / 40) ** (2 / 3)
+        build = e * (args.tloc * 1e-3 * n + let_b * args.clet * 1e-3)
+        gather = e * ((let_b + 2 * 1.0 * args.N + P * m * 144) / (args.bw * 1e3) + (args.levels + 5) * lat)
     walk = e * args.w * 1e-3 * n
-    gather = e * args.N * 32 / (args.bw * 1e3)
     grav = build + walk + gather
     comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
     rows_us = args.row * args.N / args.series_every
