@@ -35,6 +35,29 @@ std::string gigabytes(double bytes) {
 
 }  // namespace
 
+namespace {
+double array_bytes_per_particle() {
+  double b = 0;
+  ParticleSet::for_each_array([&](const auto& a) {
+    using T = typename std::decay_t<decltype(a)>::element_type;
+    b += static_cast<double>(sizeof(T) * a.info.width);
+  });
+  return b;
+}
+}  // namespace
+
+double process_bytes(double nodes, const std::vector<MaterialSlot>& mats) {
+  double b = 88.0 * nodes;
+  const double arrays = array_bytes_per_particle();
+  for (const MaterialSlot& m : mats) {
+    double state = 0;
+    if (m.style)
+      for (const StateField& f : m.style->state_fields) state += 8.0 * f.ncomp;
+    b += static_cast<double>(m.end - m.begin) * (2 * (arrays + state) + 96);
+  }
+  return b;
+}
+
 MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& reg) {
   MemoryEstimate e;
   const Eigen::Vector3d lo = sc.vec3("grid.domain_min"), hi = sc.vec3("grid.domain_max");
@@ -43,11 +66,7 @@ MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& 
   e.grid_nodes = 1;
   for (int d = 0; d < 3; ++d) e.grid_nodes *= std::ceil(std::max(0.0, hi[d] - lo[d]) / h) + 1 + 2 * ghost;
   e.grid_bytes = 88.0 * e.grid_nodes;
-  double array_bytes = 0;
-  ParticleSet::for_each_array([&](const auto& a) {
-    using T = typename std::decay_t<decltype(a)>::element_type;
-    array_bytes += static_cast<double>(sizeof(T) * a.info.width);
-  });
+  const double array_bytes = array_bytes_per_particle();
   const double domain_volume = (hi - lo).cwiseMax(0.0).prod();
   for (std::size_t i = 0; i < sc.count("body"); ++i) {
     const common::Scene b = sc.element("body", i);

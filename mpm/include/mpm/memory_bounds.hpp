@@ -12,12 +12,18 @@
 /// memory.max when smaller. Particle counts must stay below 2^32 (32-bit particle indices).
 /// On P MPI ranks (mpi/domain.hpp: slabs of the grid and their particles, the set-up
 /// distributed) a rank needs about total / P; the L ranks sharing a node need L total / P of the
-/// node's memory (the slabs' ghost planes, a few per rank, are left out of this estimate).
+/// node's memory. That first check runs before the cuts are known; once they are (the slabs
+/// balance particles, so a rank beside empty space may hold far more than 1/P of the grid, and
+/// every slab has 2 ghost planes a side), each rank checks its own box and particles
+/// (process_bytes, DomainSolver: mpi/domain.hpp) against its process limit and the node's ranks
+/// together against the node's memory.
 #pragma once
 #include <cstddef>
+#include <vector>
 
 #include "common/schema.hpp"
 #include "mpm/material.hpp"
+#include "mpm/particles.hpp"
 
 namespace mpmfrag {
 
@@ -31,6 +37,11 @@ struct MemoryEstimate {
 
 /// Estimate from a validated scene (keys as in mpm_schema()).
 MemoryEstimate estimate_memory(const common::Scene& sc, const MaterialRegistry& reg = builtin_materials());
+
+/// Bytes a process needs for a grid box of `nodes` nodes and the particles of `mats` (each
+/// material's count x (2 x (the ParticleSet arrays + its style's state fields) + 96)), by the
+/// same rules as estimate_memory.
+double process_bytes(double nodes, const std::vector<MaterialSlot>& mats);
 
 /// Bytes this process may use: min(node_memory(), process_memory_limit()).
 double available_memory();

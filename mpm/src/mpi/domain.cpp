@@ -87,6 +87,7 @@ std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common
 void DomainSolver::init_slabs(const Setup& setup) { slabs_ = slab_layout(grid_, setup.solver.ghost_layers); }
 
 void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats) {
+  check_memory(mats);
   halo_ = std::make_unique<HaloExchange>(comm_, slabs_, grid_);
   Subdomain box = slabs_.box(comm_.rank, grid_);
   box.exchange = halo_.get();

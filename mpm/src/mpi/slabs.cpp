@@ -2,11 +2,14 @@
 /// Slab decomposition of the background grid (mpm/mpi/domain.hpp): cuts balancing the particle
 /// count per rank,  P_r = min { P : sum_{c < P} n(c) >= r N / R }  with every slab at least W
 /// planes wide, the owner of a cell, and the box (owned planes plus H ghost planes per side,
-/// clipped to the grid) a rank holds.
+/// clipped to the grid) a rank holds, and the memory that box and its particles need
+/// (DomainSolver::check_memory).
 #include <algorithm>
+#include <cstdio>
 #include <string>
 
 #include "common/status.hpp"
+#include "mpm/memory_bounds.hpp"
 #include "mpm/mpi/domain.hpp"
 
 namespace mpmfrag::mpi {
@@ -47,6 +50,41 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
     cut[r] = std::clamp(c, cut[r - 1] + min_width, planes - (ranks - r) * min_width);
   }
   return cut;
+}
+
+void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
+  const Subdomain box = slabs_.box(comm_.rank, grid_);
+  const double nodes = static_cast<double>(box.shape.cast<double>().prod());
+  double particles = 0;
+  for (const MaterialSlot& m : mats) particles += static_cast<double>(m.end - m.begin);
+  const double need = process_bytes(nodes, mats);
+  MPI_Comm node;
+  MPI_Comm_split_type(comm_.c, MPI_COMM_TYPE_SHARED, comm_.rank, MPI_INFO_NULL, &node);
+  double node_need = need;
+  MPI_Allreduce(MPI_IN_PLACE, &node_need, 1, MPI_DOUBLE, MPI_SUM, node);
+  MPI_Comm_free(&node);
+  const double proc = opt_.process_memory >= 0 ? opt_.process_memory : process_memory_limit();
+  const double avail = opt_.node_memory >= 0 ? opt_.node_memory : mpmfrag::node_memory();
+  // the rank most over its limit (by the larger of its two ratios), named on every rank alike
+  struct {
+    double ratio;
+    int rank;
+  } worst{std::max(need / proc, node_need / avail), comm_.rank};
+  MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_.c);
+  if (!(worst.ratio > 1.0)) return;
+  double w[5] = {nodes, particles, need, node_need, 0.0};
+  MPI_Bcast(w, 5, MPI_DOUBLE, worst.rank, comm_.c);
+  char buf[640];
+  std::snprintf(buf, sizeof buf,
+                "grid.cell_size: MPI rank %d's slab, node planes [%d, %d) of %d along axis %d with up to %d ghost "
+                "planes a side (the slabs balance particles, so a rank beside empty space holds more than its share of the "
+                "grid), holds %.3g grid nodes and %.3g particles: %.3g GB, its node's ranks together %.3g GB; this "
+                "process may use %.3g GB and the node offers %.3g GB. Use more ranks, fewer ranks per node, a "
+                "smaller [grid] domain or a coarser cell_size",
+                worst.rank, slabs_.cut[worst.rank], slabs_.cut[worst.rank + 1], grid_.shape[slabs_.axis], slabs_.axis,
+                slabs_.halo,
+                w[0], w[1], w[2] / 1e9, w[3] / 1e9, proc / 1e9, avail / 1e9);
+  throw common::InputError(buf);
 }
 
 }  // namespace mpmfrag::mpi

@@ -8,8 +8,11 @@
 /// elastic sphere (exact bodies, the default) and a driven platen.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "common/schema.hpp"
 #include "mpi_test_helpers.hpp"
+#include "mpm/memory_bounds.hpp"
 
 using namespace mpmfrag;
 using namespace mpmtest;
@@ -100,6 +103,81 @@ TEST(MpmMpi, DistributedSetupEqualsTheFullSetupSplit) {
     for (int c : part.second) std::printf(" %d", c);
     std::printf(")\n");
   }
+}
+
+}  // namespace
+
+namespace {
+
+// A small body at one end of a long domain: the slabs balance particles, so the last rank holds
+// nearly all the empty planes, far more than 1/P of the grid.
+const std::string kLopsided = R"(
+[grid]
+domain_min = [0.0, 0.0, 0.0]
+domain_max = [3.0, 0.1, 0.1]
+cell_size = 0.01
+[time]
+end = 1e-4
+)" + kRockAndSoft + R"(
+[[body]]
+material = "soft"
+shape = "box"
+min = [0.0, 0.02, 0.02]
+max = [0.12, 0.08, 0.08]
+)";
+
+TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
+  static const common::Schema schema = mpm_schema();
+  const common::Scene scene = common::Scene::parse(schema, kLopsided, "lopsided");
+  const std::pair<mpmfrag::Setup, std::vector<int>> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
+  // every rank's need, as check_memory computes it (box nodes and particles)
+  const std::vector<int>& cut = part.second;
+  const common::GridInfo& g = part.first.grid;
+  const int a = 0;  // the longest axis
+  std::vector<double> need(ranks());
+  for (int r = 0; r < ranks(); ++r) {
+    const int lo = std::max(0, cut[r] - 2), hi = std::min(g.shape[a], cut[r + 1] + 2);
+    need[r] = 88.0 * (hi - lo) * g.shape[1] * g.shape[2];
+  }
+  double mine = process_bytes(0.0, part.first.materials);  // this rank's particles
+  std::vector<double> parts(ranks(), 0.0);
+  parts[rank()] = mine;
+  MPI_Allreduce(MPI_IN_PLACE, parts.data(), ranks(), MPI_DOUBLE, MPI_SUM, MPI_COMM_WORLD);
+  for (int r = 0; r < ranks(); ++r) need[r] += parts[r];
+  const double largest = *std::max_element(need.begin(), need.end());
+  double total_need = 0;
+  for (double n : need) total_need += n;
+  const int worst = static_cast<int>(std::max_element(need.begin(), need.end()) - need.begin());
+  EXPECT_EQ(worst, ranks() - 1) << "the rank beside the empty space needs the most";
+  // the first check's share (total / P) would let this limit pass; the slab's own need does not
+  const double limit = 0.97 * largest;
+  EXPECT_LT(estimate_memory(scene).total() / ranks(), limit);
+  mpi::DomainOptions opt;
+  opt.process_memory = limit;
+  opt.node_memory = 1e18;
+  std::string what;
+  try {
+    DomainSolver d(MPI_COMM_WORLD, part.first, part.second, opt);
+  } catch (const common::InputError& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("MPI rank " + std::to_string(worst) + "'s slab"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
+  EXPECT_NE(what.find("grid.cell_size"), std::string::npos);
+  // the node's ranks together (all on this machine) against the node's memory, each rank within
+  // its own limit
+  opt.process_memory = 1e18;
+  opt.node_memory = 0.99 * total_need;
+  what.clear();
+  try {
+    DomainSolver d(MPI_COMM_WORLD, part.first, part.second, opt);
+  } catch (const common::InputError& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("'s slab"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
+  // enough memory: the solver is built
+  opt.node_memory = 1.01 * total_need;
+  opt.process_memory = 1.01 * largest;
+  EXPECT_NO_THROW(DomainSolver(MPI_COMM_WORLD, part.first, part.second, opt));
 }
 
 }  // namespace

@@ -54,7 +54,8 @@
 /// written by every rank together with collective parallel HDF5, snapshot_mpi.hpp and
 /// checkpoint_mpi.hpp, in the serial layout; a restart on any rank count reads each rank's part
 /// of the rows; velocity-driven bodies, drive.cpp; the set-up distributed, distributed_setup:
-/// every rank walks the whole lattice, O(N) work, but stores only its slab's particles.) Slabs
+/// every rank walks the whole lattice, O(N) work, but stores only its slab's particles; each
+/// rank's box and particles checked against its memory before the grid, check_memory.) Slabs
 /// only (ORB boxes would cut the surface/volume ratio of the halo at high rank counts).
 #pragma once
 #include <mpi.h>
@@ -89,6 +90,9 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
 struct DomainOptions {
   int rebalance_every = 10;        ///< steps between imbalance checks (0: never rebalance)
   double imbalance_threshold = 1.2; ///< rebalance when max N_r / mean N_r exceeds this
+  /// The memory a rank and a node offer (bytes; < 0: process_memory_limit(), node_memory()),
+  /// checked against each rank's box and particles before its grid is allocated (tests set them).
+  double process_memory = -1, node_memory = -1;
 };
 
 /// Counters of a rank (communication volume and events).
@@ -238,6 +242,10 @@ class DomainSolver {
   std::vector<long long> histogram() const;
   void init_slabs(const Setup& setup);
   void build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats);
+  /// Collective, before the grid is allocated: this rank's box and particles against its process
+  /// limit, the node's ranks together against the node's memory (slabs.cpp). InputError (exit 2)
+  /// on every rank, naming the largest rank's slab, when either is exceeded.
+  void check_memory(const std::vector<MaterialSlot>& mats) const;
   int cell(double x) const;  ///< cell of coordinate x along the split axis
 
   Comm comm_;
