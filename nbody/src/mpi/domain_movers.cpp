@@ -25,6 +25,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "ssdem/mpi/domain_sim.hpp"
@@ -37,15 +38,38 @@ struct Mover {
   double s;
   std::int32_t rank;
 };
+// a rank's failure-check records (DomainSim::Pending) ride first in its movers: kVerdict with
+// x = (first non-finite index, its id, largest overlap), kVerdict - 1 with x = (the pair's ids, -)
+// (indices and ids bit-copied into the doubles)
+constexpr std::uint64_t kVerdict = ~std::uint64_t{0};
 }  // namespace
 
 bool DomainSim::need_exchange() {
   const double t = exchange_distance(), g = cfg_.multirate ? 0.5 * skin_ : 0.0;
-  std::vector<Mover> mine;
+  // first the previous step's failure check (check_state), whose verdict this allgather carries
+  std::vector<Mover> mine{
+      Mover{kVerdict, {std::bit_cast<double>(pending_.bad_g), std::bit_cast<double>(pending_.bad_id), pending_.overlap},
+            0.0, comm_.rank},
+      Mover{kVerdict - 1, {std::bit_cast<double>(pending_.id_a), std::bit_cast<double>(pending_.id_b), 0.0}, 0.0,
+            comm_.rank}};
   for (std::uint32_t i : own_)
     if ((sp_.x[i] - xex_[i]).squaredNorm() >= t * t)
       mine.push_back(Mover{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}, sp_.s[i], comm_.rank});
-  const std::vector<Mover> all = comm_.gather(mine);
+  std::vector<Mover> all = comm_.gather(mine);
+  std::vector<Pending> parts;  // in rank order, as the allgather placed them
+  for (const Mover& m : all)
+    if (m.g == kVerdict) {
+      Pending p;
+      p.bad_g = std::bit_cast<std::uint64_t>(m.x[0]);
+      p.bad_id = std::bit_cast<std::uint64_t>(m.x[1]);
+      p.overlap = m.x[2];
+      parts.push_back(p);
+    } else if (m.g == kVerdict - 1) {
+      parts.back().id_a = std::bit_cast<std::uint64_t>(m.x[0]);
+      parts.back().id_b = std::bit_cast<std::uint64_t>(m.x[1]);
+    }
+  verdict(parts);  // every rank alike (the same records)
+  all.erase(std::remove_if(all.begin(), all.end(), [](const Mover& m) { return m.g >= kVerdict - 1; }), all.end());
   if (all.empty()) return false;
   if (all.size() > std::max<std::size_t>(64, n_global_ / 16)) return true;
   ++stats_.mover_checks;

@@ -259,33 +259,52 @@ void DomainSim::close_gravity_block() {
 }
 
 void DomainSim::check_state() {
-  std::uint64_t bad_id = 0;
-  bool bad = false;
-  for (std::uint32_t i : own_)
+  pending_ = Pending{};
+  pending_.step = step_;
+  for (std::uint32_t i : own_)  // own_ in index order: the first is the rank's smallest index
     if (!sp_.x[i].allFinite() || !sp_.v[i].allFinite() || !a_[i].allFinite() || !sp_.w[i].allFinite() ||
         !ag_[i].allFinite()) {
-      bad = true;
-      bad_id = sp_.id[i];
+      pending_.bad_g = gidx_[i];
+      pending_.bad_id = sp_.id[i];
       break;
     }
-  double in[2] = {bad ? static_cast<double>(comm_.rank + 1) : 0.0, contacts_ ? cstats_.max_overlap_frac : 0.0};
-  double out[2];
-  MPI_Allreduce(in, out, 2, MPI_DOUBLE, MPI_MAX, comm_.c);
-  if (out[0] > 0) {
-    std::ostringstream os;
-    os << "non-finite state on rank " << static_cast<int>(out[0]) - 1 << " at step " << step_;
-    if (bad) os << " (sphere id " << bad_id << ")";
-    throw common::NumericalError(os.str());
+  if (contacts_ && cstats_.max_overlap_frac > 0.0) {
+    pending_.overlap = cstats_.max_overlap_frac;
+    pending_.id_a = sp_.id[cstats_.worst_a];
+    pending_.id_b = sp_.id[cstats_.worst_b];
   }
-  if (contacts_ && out[1] > cfg_.max_overlap_frac) {
-    std::ostringstream os;
-    os << "overlap of " << out[1] << " x the smaller radius (limit contact.max_overlap_fraction = "
-       << cfg_.max_overlap_frac << ") at step " << step_ << ": k_n too soft or dt too large for this impact speed";
-    throw common::NumericalError(os.str());
-  }
+  // Inside a gravity block (no output, no kept state) the verdict rides on the next base step's
+  // movers allgather (need_exchange, before anything is computed from this state): one
+  // collective per base step fewer. At block boundaries, where the driver writes, now.
+  if (contacts_ && comm_.size > 1 && !at_gravity_boundary()) return;
+  verdict(comm_.gather(std::vector<Pending>{pending_}));
   // a verified state (the same steps on every rank: the decision is collective above)
   if (keep_every_ > 0 && at_gravity_boundary() && (!last_good_ || step_ >= last_good_->step + keep_every_))
     last_good_ = pack_local();
+}
+
+void DomainSim::verdict(const std::vector<Pending>& all) {
+  const std::int64_t step = pending_.step;
+  pending_ = Pending{};
+  const Pending* first = nullptr;  // the first non-finite sphere, as one rank finds it
+  const Pending* worst = nullptr;  // the largest overlap
+  for (const Pending& p : all) {
+    if (p.bad_g != ~std::uint64_t{0} && (!first || p.bad_g < first->bad_g)) first = &p;
+    if (!worst || p.overlap > worst->overlap) worst = &p;
+  }
+  if (first) {  // the one-rank message (simulation.cpp check_state)
+    std::ostringstream os;
+    os << "non-finite state of sphere id " << first->bad_id << " at step " << step;
+    throw common::NumericalError(os.str());
+  }
+  if (contacts_ && worst && worst->overlap > cfg_.max_overlap_frac) {
+    std::ostringstream os;
+    os << "overlap of " << worst->overlap << " x the smaller radius (limit contact.max_overlap_fraction = "
+       << cfg_.max_overlap_frac << ") between sphere ids " << worst->id_a << " and "
+       << (worst->id_a == worst->id_b ? std::string("a wall") : std::to_string(worst->id_b)) << " at step " << step
+       << ": k_n too soft or dt too large for this impact speed";
+    throw common::NumericalError(os.str());
+  }
 }
 
 double DomainSim::bytes_per_owned_sphere() const {

@@ -21,6 +21,7 @@
 
 #include "../kepler_pair.hpp"
 #include "common/rng.hpp"
+#include "common/status.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
@@ -529,4 +530,44 @@ TEST(MpiDomain, MultirateEqualisationCrossesDomainsInRoundsOfOneStep) {
 TEST(MpiDomain, MultirateRestartOnFewerRanksContinuesBitIdentically) {
   const SimConfig cfg = multirate_config();
   restart_on_fewer_ranks(two_bodies_unequal(cfg.dt, 300), cfg, 400, 800);
+}
+
+TEST(MpiDomain, RunawayOverlapInsideAGravityBlockFailsAtTheOneRankStep) {
+  // Two spheres meeting far too fast for k_n: the overlap limit is passed in the middle of a long
+  // gravity block, where the ranks decide the failure check together at the next base step's
+  // movers allgather (domain_sim.cpp check_state). Every rank must fail, naming the step at which
+  // one rank fails, one base step later at most.
+  Spheres sp;
+  sp.push(1, Vec3(-0.102, 0.0, 0), Vec3(30.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
+  sp.push(2, Vec3(0.102, 0.0, 0), Vec3(-30.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
+  SimConfig cfg = config(sp, 1.0, false, false);  // k_n for 1 (G = 1 units), here 60 relative
+  cfg.gravity_every = 1000;
+  cfg.max_overlap_frac = 0.3;
+  std::string one;
+  std::int64_t one_step = -1;
+  {
+    Simulation ref(sp, cfg);
+    try {
+      for (int k = 0; k < 2000; ++k) ref.step();
+    } catch (const common::NumericalError& e) {
+      one = e.what();
+      one_step = ref.step_count();
+    }
+  }
+  ASSERT_FALSE(one.empty()) << "the one-rank run must fail";
+  ASSERT_LT(one_step, 1000) << "inside the first gravity block";
+  mpi::DomainSim d(world(), sp, cfg);
+  std::string many;
+  std::int64_t many_step = -1;
+  try {
+    for (int k = 0; k < 2000; ++k) d.step();
+  } catch (const common::NumericalError& e) {
+    many = e.what();
+    many_step = d.step_count();
+  }
+  EXPECT_EQ(many, one) << "rank " << world().rank;
+  EXPECT_TRUE(many_step == one_step || many_step == one_step + 1) << many_step << " vs " << one_step;
+  if (world().rank == 0) std::printf("runaway overlap: one rank fails at step %lld (%s); %d ranks at %lld\n",
+                                     static_cast<long long>(one_step), one.c_str(), world().size,
+                                     static_cast<long long>(many_step));
 }

@@ -179,7 +179,22 @@ class DomainSim {
   void compute_forces(bool initial);
   void compute_gravity();
   void close_gravity_block();
+  /// The end-of-step failure check: the verdict (an allreduce) at gravity-block boundaries, else
+  /// carried by the next base step's movers allgather (need_exchange).
   void check_state();
+  /// A rank's part of a failure check: its first non-finite sphere (global index, id; g = -1:
+  /// none) and its largest overlap with the pair's ids (id_b = id_a: a wall).
+  struct Pending {
+    std::uint64_t bad_g = ~std::uint64_t{0}, bad_id = 0;
+    double overlap = 0.0;
+    std::uint64_t id_a = 0, id_b = 0;
+    std::int64_t step = -1;
+  };
+  /// Decide the check of pending_.step from every rank's part (the same on every rank, in rank
+  /// order): throw as the one-rank check does (the same message: the first non-finite sphere in
+  /// index order, or the largest overlap, the lowest rank's on a tie); clears pending_.
+  void verdict(const std::vector<Pending>& all);
+  Pending pending_;  ///< this rank's part of the last check not yet decided together
   // multi-rate (domain_multirate.cpp)
   void setup_multirate();
   void step_multirate();
