@@ -33,7 +33,9 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
                                           synchronised ghosts' velocities: m_h = 33 B per ghost and
                                           base step measured, 15 985 B for 486 ghosts; 145 B before
                                           the halos of the ghosts that changed) and three collectives
-                                          (movers' allgather, levels-changed and failure allreduces)
+                                          (movers' allgather, which also carries the failure check
+                                          inside gravity blocks since 2026-12-04, the mover check's
+                                          and the levels-changed allreduces; --collectives 4 before)
   rows      r N / R                       the O(N) work a series row every R base steps leaves on
                                           rank 0; r = 0 since 2026-12-04 (exact sums over the
                                           ranks, no gather: 0.6 ms per row on 2 ranks for 8 217
@@ -65,6 +67,7 @@ ap.add_argument("--w", type=float, default=1900.0, help="ns per own sphere for t
 ap.add_argument("--evals-per-step", type=float, default=12875 / 3242057, help="gravity evaluations per base step")
 ap.add_argument("--alpha", type=float, default=3.0, help="us per message (network latency; assumed)")
 ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
+ap.add_argument("--collectives", type=float, default=3.0, help="collectives per base step")
 ap.add_argument("--mh", type=float, default=33.0, help="halo bytes per ghost and base step (measured)")
 ap.add_argument("--row", type=float, default=0.0,
                 help="us per sphere per series row on rank 0 (0 since the exact-sum rows; 0.7 before)")
@@ -93,7 +96,7 @@ for P in (64, 512, 4096):
         gather = e * ((let_b + 2 * 1.0 * args.N + P * m * 144) / (args.bw * 1e3) + (args.levels + 5) * lat)
     walk = e * args.w * 1e-3 * n
     grav = build + walk + gather
-    comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + 3 * args.alpha * (1 + math.log2(P))
+    comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + args.collectives * args.alpha * (1 + math.log2(P))
     rows_us = args.row * args.N / args.series_every
     tot = comp + grav + comm + rows_us
     wall_h = tot * 1e-6 * args.steps / 3600

@@ -21,7 +21,9 @@
 /// one step), then ghosts are rebuilt.
 /// Numerical failure. Every rank keeps a packed copy of its own spheres and history at the
 /// verified block boundaries of set_keep_last_good; after a failure they are gathered into the
-/// one-rank state of that step (the serial driver's failed_state.h5).
+/// one-rank state of that step (the serial driver's failed_state.h5). The end-of-step check
+/// (non-finite state, runaway overlap) is decided together: at block boundaries at once, inside a
+/// block with the next base step's movers allgather (check_state, need_exchange).
 /// Contacts. The local set L = owned + ghosts, in global-index order, runs the serial contact
 /// system (contacts.hpp). Its per-sphere sums run over partners in ascending local index, which is
 /// ascending global index, so an owned sphere's force equals the one-rank force bit for bit.
