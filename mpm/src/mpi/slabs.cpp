@@ -72,8 +72,8 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
   } worst{std::max(need / proc, node_need / avail), comm_.rank};
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_.c);
   if (!(worst.ratio > 1.0)) return;
-  double w[5] = {nodes, particles, need, node_need, 0.0};
-  MPI_Bcast(w, 5, MPI_DOUBLE, worst.rank, comm_.c);
+  double w[6] = {nodes, particles, need, node_need, proc, avail};  // the worst rank's, on every rank
+  MPI_Bcast(w, 6, MPI_DOUBLE, worst.rank, comm_.c);
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "grid.cell_size: MPI rank %d's slab, node planes [%d, %d) of %d along axis %d with up to %d ghost "
@@ -83,7 +83,7 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
                 "smaller [grid] domain or a coarser cell_size",
                 worst.rank, slabs_.cut[worst.rank], slabs_.cut[worst.rank + 1], grid_.shape[slabs_.axis], slabs_.axis,
                 slabs_.halo,
-                w[0], w[1], w[2] / 1e9, w[3] / 1e9, proc / 1e9, avail / 1e9);
+                w[0], w[1], w[2] / 1e9, w[3] / 1e9, w[4] / 1e9, w[5] / 1e9);
   throw common::InputError(buf);
 }
 

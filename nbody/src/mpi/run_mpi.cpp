@@ -207,6 +207,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         if (ckpt_every > 0) next_ckpt = (s / ckpt_every + 1) * ckpt_every;
       }
     }
+    sim->settle();  // a run ending inside a gravity block: its last steps' check, before the checkpoint
   } catch (common::NumericalError& e) {
     // check_state is collective: every rank is here at the same step. As the serial driver: the
     // last verified state as a checkpoint (restartable), else the failing state as a snapshot.

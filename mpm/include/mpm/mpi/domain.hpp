@@ -34,7 +34,9 @@
 ///      shared nodes: rank r and its neighbour swap their partial sums of m_i, (m v)_i, f_i (the
 ///      fields of that pass; after the MUSL re-projection the momenta) over the 2H overlap planes
 ///      and both form   X_i = X_i^(r) + X_i^(r+1)   (one addition of two terms: IEEE addition is
-///      commutative, so owner and ghost hold the same bits). This is the "reverse sum to the
+///      commutative, so owner and ghost hold the same bits). Only the nodes whose pass fields are
+///      not all +0 travel (with their ordinal in the overlap); a node not received gets + 0.0,
+///      which is the dense sum bit for bit (halo.cpp), so the halo is the nodes with mass. This is the "reverse sum to the
 ///      owner, values sent back" of the issue with one message per neighbour instead of two: the
 ///      grid update, the face conditions and G2P then run on owned and ghost nodes alike from
 ///      identical inputs, which is what sending the updated owner values back would give.

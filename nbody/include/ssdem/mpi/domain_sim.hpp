@@ -95,6 +95,11 @@ class DomainSim {
   DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance = 0.1);
 
   void step();
+  /// Collective: decide a failure check still pending (a run that ends inside a gravity block:
+  /// check_state decides inside blocks at the next base step); throws as the check does.
+  void settle() {
+    if (pending_.step >= 0) verdict(comm_.gather(std::vector<Pending>{pending_}));
+  }
   bool at_gravity_boundary() const { return step_ == block_start_; }
   /// As Simulation::want_potential: the next gravity evaluations also give each own sphere's
   /// potential (the same bits as one rank's), for the driver's next series row.
