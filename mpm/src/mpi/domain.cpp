@@ -2,12 +2,15 @@
 /// One rank's part of a distributed mpm-frag run (mpm/mpi/domain.hpp for the design and the
 /// equations): set-up from the full scene, the step (migration, rebalancing, the serial step on
 /// the rank's box), global diagnostics summed in rank order, and the gather of all particles.
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <sstream>
 
 #include "common/status.hpp"
+#include "mpm/memory_bounds.hpp"
 #include "mpm/mpi/domain.hpp"
 #include "mpm/shape_functions.hpp"
 
@@ -175,6 +178,26 @@ void DomainSolver::rebalance() {
   comm_.sum(count.data(), static_cast<int>(count.size()));
   const std::vector<int> cut = balanced_cuts(count, comm_.size, slabs_.min_width);
   if (cut != slabs_.cut) {
+    // every rank's new box and particles must fit its memory (DomainSolver::check_memory's
+    // rule; the particle bytes at this rank's current mean per particle), else keep the cuts
+    Slabs next = slabs_;
+    next.cut = cut;
+    const double nodes = static_cast<double>(next.box(comm_.rank, grid_).shape.cast<double>().prod());
+    long long mine = 0;
+    for (int c = cut[comm_.rank]; c < cut[comm_.rank + 1]; ++c) mine += count[c];
+    const double n_now = static_cast<double>(solver_->particles().size());
+    const double per = n_now > 0 ? process_bytes(0.0, solver_->materials()) / n_now : 0.0;
+    double per_max = per;  // a rank with no particles now takes the largest rank's mean
+    comm_.max(&per_max, 1);
+    const double ratio = memory_ratio(nodes, static_cast<double>(mine) * (n_now > 0 ? per : per_max)).first;
+    if (ratio > 1.0) {
+      if (stats_.rebalances_skipped++ == 0 && comm_.rank == 0)
+        spdlog::warn("rebalancing left out at step {}: a rank's new slab would need {:.3g} x its memory, so "
+                     "the cuts stay (warned once; DomainStats::rebalances_skipped counts them)",
+                     solver_->step_count(), ratio);
+      migrate();
+      return;
+    }
     slabs_.cut = cut;
     Subdomain box = slabs_.box(comm_.rank, grid_);
     box.exchange = halo_.get();

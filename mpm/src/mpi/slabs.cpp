@@ -52,12 +52,8 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
   return cut;
 }
 
-void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
-  const Subdomain box = slabs_.box(comm_.rank, grid_);
-  const double nodes = static_cast<double>(box.shape.cast<double>().prod());
-  double particles = 0;
-  for (const MaterialSlot& m : mats) particles += static_cast<double>(m.end - m.begin);
-  const double need = process_bytes(nodes, mats);
+std::pair<double, int> DomainSolver::memory_ratio(double nodes, double bytes) const {
+  const double need = 88.0 * nodes + bytes;  // process_bytes' grid term
   MPI_Comm node;
   MPI_Comm_split_type(comm_.c, MPI_COMM_TYPE_SHARED, comm_.rank, MPI_INFO_NULL, &node);
   double node_need = need;
@@ -65,13 +61,34 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
   MPI_Comm_free(&node);
   const double proc = opt_.process_memory >= 0 ? opt_.process_memory : process_memory_limit();
   const double avail = opt_.node_memory >= 0 ? opt_.node_memory : mpmfrag::node_memory();
-  // the rank most over its limit (by the larger of its two ratios), named on every rank alike
+  // the rank most over its limit (by the larger of its two ratios), the same on every rank
   struct {
     double ratio;
     int rank;
   } worst{std::max(need / proc, node_need / avail), comm_.rank};
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_.c);
-  if (!(worst.ratio > 1.0)) return;
+  return {worst.ratio, worst.rank};
+}
+
+void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
+  const Subdomain box = slabs_.box(comm_.rank, grid_);
+  const double nodes = static_cast<double>(box.shape.cast<double>().prod());
+  double particles = 0;
+  for (const MaterialSlot& m : mats) particles += static_cast<double>(m.end - m.begin);
+  const double need = process_bytes(nodes, mats);
+  const auto [ratio, worst_rank] = memory_ratio(nodes, need - 88.0 * nodes);
+  if (!(ratio > 1.0)) return;
+  struct {
+    double ratio;
+    int rank;
+  } worst{ratio, worst_rank};
+  MPI_Comm node;
+  MPI_Comm_split_type(comm_.c, MPI_COMM_TYPE_SHARED, comm_.rank, MPI_INFO_NULL, &node);
+  double node_need = need;
+  MPI_Allreduce(MPI_IN_PLACE, &node_need, 1, MPI_DOUBLE, MPI_SUM, node);
+  MPI_Comm_free(&node);
+  const double proc = opt_.process_memory >= 0 ? opt_.process_memory : process_memory_limit();
+  const double avail = opt_.node_memory >= 0 ? opt_.node_memory : mpmfrag::node_memory();
   double w[6] = {nodes, particles, need, node_need, proc, avail};  // the worst rank's, on every rank
   MPI_Bcast(w, 6, MPI_DOUBLE, worst.rank, comm_.c);
   char buf[640];

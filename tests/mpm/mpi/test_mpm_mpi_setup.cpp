@@ -181,3 +181,53 @@ TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every particle on rank 0 of cuts that give the other ranks min_width empty planes each at the
+// far end; `limit_last`: the last rank's process memory (others unlimited).
+mpmfrag::Setup rank0_holds_all(const mpmfrag::Setup& full) {
+  mpmfrag::Setup mine = full;
+  std::vector<char> keep(full.particles.size(), rank() == 0 ? 1 : 0);
+  mine.particles = ParticleSet();
+  mine.materials.clear();
+  mpi::select_particles(full.particles, full.materials, keep, mine.particles, mine.materials);
+  return mine;
+}
+
+TEST(MpmMpi, RebalancingThatWouldOverfillARankIsLeftOut) {
+  static const common::Schema schema = mpm_schema();
+  const common::Scene scene = common::Scene::parse(schema, kLopsided, "lopsided");
+  const mpmfrag::Setup full = build_setup(scene);
+  const mpmfrag::Setup mine = rank0_holds_all(full);
+  const int S = full.grid.shape[0], W = 4;
+  std::vector<int> cut(ranks() + 1);
+  for (int r = 1; r < ranks(); ++r) cut[r] = S - (ranks() - r) * W;
+  cut[0] = 0;
+  cut[ranks()] = S;
+  const double plane = 88.0 * full.grid.shape[1] * full.grid.shape[2];
+  mpi::DomainOptions opt;
+  opt.rebalance_every = 1;
+  opt.imbalance_threshold = 1.01;
+  opt.node_memory = 1e18;
+  // the last rank may hold twice its present box, far less than the empty planes balancing hands it
+  opt.process_memory = rank() == ranks() - 1 ? 2.0 * (W + 2) * plane : 1e18;
+  {
+    DomainSolver d(MPI_COMM_WORLD, mine, cut, opt);
+    for (int k = 0; k < 3; ++k) d.step(0.1 * d.stable_dt());
+    EXPECT_EQ(d.stats().rebalances, 0);
+    EXPECT_EQ(d.stats().rebalances_skipped, 2);  // steps 1 and 2 (none at step 0)
+    EXPECT_EQ(d.slabs().cut, cut);
+    long long n = static_cast<long long>(d.local().particles().size());
+    d.comm().sum(&n, 1);
+    EXPECT_EQ(n, static_cast<long long>(full.particles.size()));
+  }
+  opt.process_memory = 1e18;  // room: the cuts balance the particles
+  DomainSolver d(MPI_COMM_WORLD, mine, cut, opt);
+  for (int k = 0; k < 3; ++k) d.step(0.1 * d.stable_dt());
+  EXPECT_GE(d.stats().rebalances, 1);
+  EXPECT_EQ(d.stats().rebalances_skipped, 0);
+  EXPECT_NE(d.slabs().cut, cut);
+}
+
+}  // namespace

@@ -29,7 +29,9 @@
 ///      cell, whose Solver removes it in the step and keeps its record (outflow_mpi.cpp).
 ///   2. every `rebalance_every` steps: imbalance I = max_r N_r / mean_r N_r; if I > threshold the
 ///      cuts are recomputed from the global histogram n(c) (an integer allreduce: exact), each
-///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.).
+///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.); unless
+///      a rank's new box and particles would not fit its memory (memory_ratio): then the cuts
+///      stay (DomainStats::rebalances_skipped).
 ///   3. the serial step on the box. After each P2G pass the GridExchange (halo.cpp) completes the
 ///      shared nodes: rank r and its neighbour swap their partial sums of m_i, (m v)_i, f_i (the
 ///      fields of that pass; after the MUSL re-projection the momenta) over the 2H overlap planes
@@ -101,6 +103,7 @@ struct DomainOptions {
 struct DomainStats {
   long long migrated = 0;     ///< particles this rank sent away
   long long rebalances = 0;   ///< rebalancings (same on every rank)
+  long long rebalances_skipped = 0;  ///< rebalancings left out: a rank's new slab would not fit its memory
   double halo_bytes = 0;      ///< bytes sent in halo swaps
   double migrate_bytes = 0;   ///< bytes sent in migration (and gathers)
 };
@@ -248,6 +251,9 @@ class DomainSolver {
   /// limit, the node's ranks together against the node's memory (slabs.cpp). InputError (exit 2)
   /// on every rank, naming the largest rank's slab, when either is exceeded.
   void check_memory(const std::vector<MaterialSlot>& mats) const;
+  /// Collective: the largest ratio over the ranks of need to limit (process: this rank's box of
+  /// `nodes` nodes and `bytes` of particles; node: its ranks together), and that rank.
+  std::pair<double, int> memory_ratio(double nodes, double bytes) const;
   int cell(double x) const;  ///< cell of coordinate x along the split axis
 
   Comm comm_;
