@@ -189,7 +189,7 @@ void DomainSolver::rebalance() {
     const double per = n_now > 0 ? process_bytes(0.0, solver_->materials()) / n_now : 0.0;
     double per_max = per;  // a rank with no particles now takes the largest rank's mean
     comm_.max(&per_max, 1);
-    const double ratio = memory_ratio(nodes, static_cast<double>(mine) * (n_now > 0 ? per : per_max)).first;
+    const double ratio = memory_ratio(nodes, static_cast<double>(mine) * (n_now > 0 ? per : per_max)).ratio;
     if (ratio > 1.0) {
       if (stats_.rebalances_skipped++ == 0 && comm_.rank == 0)
         spdlog::warn("rebalancing left out at step {}: a rank's new slab would need {:.3g} x its memory, so "

@@ -52,7 +52,8 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
   return cut;
 }
 
-std::pair<double, int> DomainSolver::memory_ratio(double nodes, double bytes) const {
+DomainSolver::MemoryRatio DomainSolver::memory_ratio(double nodes, double bytes) const {
+  MemoryRatio m;
   const double need = 88.0 * nodes + bytes;  // process_bytes' grid term
   MPI_Comm node;
   MPI_Comm_split_type(comm_.c, MPI_COMM_TYPE_SHARED, comm_.rank, MPI_INFO_NULL, &node);
@@ -67,7 +68,13 @@ std::pair<double, int> DomainSolver::memory_ratio(double nodes, double bytes) co
     int rank;
   } worst{std::max(need / proc, node_need / avail), comm_.rank};
   MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE_INT, MPI_MAXLOC, comm_.c);
-  return {worst.ratio, worst.rank};
+  m.ratio = worst.ratio;
+  m.rank = worst.rank;
+  m.need = need;
+  m.node_need = node_need;
+  m.process = proc;
+  m.node = avail;
+  return m;
 }
 
 void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
@@ -75,22 +82,11 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
   const double nodes = static_cast<double>(box.shape.cast<double>().prod());
   double particles = 0;
   for (const MaterialSlot& m : mats) particles += static_cast<double>(m.end - m.begin);
-  const double need = process_bytes(nodes, mats);
-  const auto [ratio, worst_rank] = memory_ratio(nodes, need - 88.0 * nodes);
-  if (!(ratio > 1.0)) return;
-  struct {
-    double ratio;
-    int rank;
-  } worst{ratio, worst_rank};
-  MPI_Comm node;
-  MPI_Comm_split_type(comm_.c, MPI_COMM_TYPE_SHARED, comm_.rank, MPI_INFO_NULL, &node);
-  double node_need = need;
-  MPI_Allreduce(MPI_IN_PLACE, &node_need, 1, MPI_DOUBLE, MPI_SUM, node);
-  MPI_Comm_free(&node);
-  const double proc = opt_.process_memory >= 0 ? opt_.process_memory : process_memory_limit();
-  const double avail = opt_.node_memory >= 0 ? opt_.node_memory : mpmfrag::node_memory();
-  double w[6] = {nodes, particles, need, node_need, proc, avail};  // the worst rank's, on every rank
-  MPI_Bcast(w, 6, MPI_DOUBLE, worst.rank, comm_.c);
+  const MemoryRatio m = memory_ratio(nodes, process_bytes(nodes, mats) - 88.0 * nodes);
+  if (!(m.ratio > 1.0)) return;
+  const int worst = m.rank;
+  double w[6] = {nodes, particles, m.need, m.node_need, m.process, m.node};  // the worst rank's, on every rank
+  MPI_Bcast(w, 6, MPI_DOUBLE, worst, comm_.c);
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "grid.cell_size: MPI rank %d's slab, node planes [%d, %d) of %d along axis %d with up to %d ghost "
@@ -98,7 +94,7 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
                 "grid), holds %.3g grid nodes and %.3g particles: %.3g GB, its node's ranks together %.3g GB; this "
                 "process may use %.3g GB and the node offers %.3g GB. Use more ranks, fewer ranks per node, a "
                 "smaller [grid] domain or a coarser cell_size",
-                worst.rank, slabs_.cut[worst.rank], slabs_.cut[worst.rank + 1], grid_.shape[slabs_.axis], slabs_.axis,
+                worst, slabs_.cut[worst], slabs_.cut[worst + 1], grid_.shape[slabs_.axis], slabs_.axis,
                 slabs_.halo,
                 w[0], w[1], w[2] / 1e9, w[3] / 1e9, w[4] / 1e9, w[5] / 1e9);
   throw common::InputError(buf);

@@ -252,8 +252,14 @@ class DomainSolver {
   /// on every rank, naming the largest rank's slab, when either is exceeded.
   void check_memory(const std::vector<MaterialSlot>& mats) const;
   /// Collective: the largest ratio over the ranks of need to limit (process: this rank's box of
-  /// `nodes` nodes and `bytes` of particles; node: its ranks together), and that rank.
-  std::pair<double, int> memory_ratio(double nodes, double bytes) const;
+  /// `nodes` nodes and `bytes` of particles; node: its ranks together), that rank, and this
+  /// rank's needs and limits.
+  struct MemoryRatio {
+    double ratio = 0;
+    int rank = 0;
+    double need = 0, node_need = 0, process = 0, node = 0;
+  };
+  MemoryRatio memory_ratio(double nodes, double bytes) const;
   int cell(double x) const;  ///< cell of coordinate x along the split axis
 
   Comm comm_;
