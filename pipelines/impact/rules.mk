@@ -74,10 +74,14 @@ TIMED = $(IMPACT_DIR)/timed.sh $(RUN)/timing
 MPI_RANKS  ?= 0
 MPI_LAUNCH ?= mpirun --bind-to none -np
 ON_RANKS = $(if $(filter-out 0,$(MPI_RANKS)),$(MPI_LAUNCH) $(MPI_RANKS))
-TIMED_RANKS = STAGE_MPI_RANKS=$(MPI_RANKS) $(TIMED)  # a stage on ranks: timed.sh records them
+# a stage on ranks: timed.sh records them
+TIMED_RANKS = STAGE_MPI_RANKS=$(MPI_RANKS) $(TIMED)
+# checked only for the impact goals (other targets, build-mpi among them, run with any MPI_RANKS)
 ifneq ($(filter-out 0,$(MPI_RANKS)),)
+ifneq ($(filter impact impact-% demo,$(MAKECMDGOALS)),)
 ifeq ($(shell grep -s 'SUITE_MPI:BOOL=ON' $(BUILD)/CMakeCache.txt),)
 $(error MPI_RANKS=$(MPI_RANKS) needs an MPI build: run `make -C pipelines build-mpi` and pass BUILD=$(ROOT)/build-mpi (BUILD=$(BUILD) is not one))
+endif
 endif
 endif
 HANDOFF_SETS  ?=

@@ -19,7 +19,7 @@ vars=(BUILD="$build" CELL=2000 IMPACTOR_DIAMETER=4000 IMPACT_SPEED=3000 MPM_TIME
 fail() { echo "FAIL: $*"; exit 1; }
 make -s -C "$root/pipelines" impact "${vars[@]}" RUN="$work/np2" MPI_RANKS=2 MPI_LAUNCH="$launch" \
   > "$work/np2.log" 2>&1 || { cat "$work/np2.log"; fail "the 2-rank pipeline failed"; }
-make -s -C "$root/pipelines" impact "${vars[@]}" RUN="$work/np0" > "$work/np0.log" 2>&1 \
+make -s -C "$root/pipelines" impact "${vars[@]}" RUN="$work/np0" MPI_RANKS=0 > "$work/np0.log" 2>&1 \
   || { cat "$work/np0.log"; fail "the one-process pipeline failed"; }
 for f in analysis.json report.md; do [ -f "$work/np2/$f" ] || fail "np2: $f missing"; done
 grep -q '"mpi_ranks": 2' "$work/np2/timing/fragment.json" || fail "fragment.json does not record 2 ranks"

@@ -124,10 +124,14 @@ void HaloExchange::sum_shared(Solver::Node* nodes, int fields) {
     MPI_Recv(in.data(), n, MPI_DOUBLE, nb, 71, comm_.c, MPI_STATUS_IGNORE);
     const double* e = in.data();
     const double* end = in.data() + in.size();
+    std::ptrdiff_t per = 0;  // doubles per node sent
+    for (const FieldRange& f : kFields)
+      if (fields & f.bit) per += f.n;
     std::uint64_t k = 0;
     for_planes(box, a, p0, p1, [&](std::size_t i) {
       double* nd = node(i);
       const bool got = e < end && std::bit_cast<std::uint64_t>(*e) == k;
+      if (got && end - e < 1 + per) throw std::logic_error("halo: a truncated sparse record from the neighbour");
       if (got) ++e;
       for (const FieldRange& f : kFields)
         if (fields & f.bit)
