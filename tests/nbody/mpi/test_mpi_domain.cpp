@@ -571,3 +571,45 @@ TEST(MpiDomain, RunawayOverlapInsideAGravityBlockFailsAtTheOneRankStep) {
                                      static_cast<long long>(one_step), one.c_str(), world().size,
                                      static_cast<long long>(many_step));
 }
+
+TEST(MpiDomain, NonFiniteStateInsideAGravityBlockFailsWithTheOneRankMessage) {
+  // Two spheres meeting with an absurd k_n: the contact force overflows to inf and the state
+  // turns non-finite inside a long gravity block, so the ranks decide the check at the next base
+  // step's movers allgather. Every rank must fail with the one-rank message (the first
+  // non-finite sphere in index order, its id, the step).
+  Spheres sp;
+  sp.push(1, Vec3(-0.1002, 0.0, 0), Vec3(1.0, 0, 0), Vec3::Zero(), 0.004, 0.1);  // they touch after a few steps
+  sp.push(2, Vec3(0.1002, 0.0, 0), Vec3(-1.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
+  SimConfig cfg = config(sp, 1.0, false, false);
+  cfg.contact.kn = 1e308;
+  cfg.min_steps_per_contact = 1e-300;  // let the dt rule pass this k_n
+  cfg.max_overlap_frac = 1e300;        // the overlap check must not fire first
+  cfg.gravity_every = 1000;
+  std::string one;
+  std::int64_t one_step = -1;
+  {
+    Simulation ref(sp, cfg);
+    try {
+      for (int k = 0; k < 500; ++k) ref.step();
+    } catch (const common::NumericalError& e) {
+      one = e.what();
+      one_step = ref.step_count();
+    }
+  }
+  ASSERT_NE(one.find("non-finite"), std::string::npos) << "the one-rank run must fail non-finite: '" << one << "'";
+  ASSERT_GT(one_step, 1) << "after the first step, inside the first gravity block";
+  mpi::DomainSim d(world(), sp, cfg);
+  std::string many;
+  std::int64_t many_step = -1;
+  try {
+    for (int k = 0; k < 500; ++k) d.step();
+  } catch (const common::NumericalError& e) {
+    many = e.what();
+    many_step = d.step_count();
+  }
+  EXPECT_EQ(many, one) << "rank " << world().rank;
+  EXPECT_TRUE(many_step == one_step || many_step == one_step + 1) << many_step << " vs " << one_step;
+  if (world().rank == 0) std::printf("non-finite: one rank at step %lld (%s); %d ranks at %lld\n",
+                                     static_cast<long long>(one_step), one.c_str(), world().size,
+                                     static_cast<long long>(many_step));
+}

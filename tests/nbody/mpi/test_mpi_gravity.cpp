@@ -118,9 +118,9 @@ TEST(MpiGravityLet, ClusteredDebrisByPositionEqualsOneRankTree) {
   EXPECT_GT(imp[0], 0.0);
   EXPECT_LT(imp[0], 0.4 * static_cast<double>(sp.size()));
   if (comm().rank == 0)
-    std::printf("LET on %d ranks, %zu spheres: rank 0 imported %.0f particles, %.0f nodes, %.0f B; top cells %.0f, "
-                "maximal %.0f, moved %.0f\n",
-                comm().size, sp.size(), o.st.imported_particles / 2, o.st.imported_nodes / 2, o.st.bytes_let / 2,
+    std::printf("LET on %d ranks, %zu spheres: largest import %.0f particles; rank 0 imported %.0f particles, %.0f nodes, "
+                "%.0f B; top cells %.0f, maximal %.0f, moved %.0f\n",
+                comm().size, sp.size(), imp[0], o.st.imported_particles / 2, o.st.imported_nodes / 2, o.st.bytes_let / 2,
                 o.st.top_cells, o.st.maximal_cells, o.st.moved_spheres / 2);
 }
 
