@@ -50,17 +50,24 @@ void write_bonds(hid_t file, const BondTable& b, const std::vector<std::uint64_t
     index[2 * k] = a->second;
     index[2 * k + 1] = c->second;
   }
+  if (!write_bond_rows(file, b, index, h5::RowBlock{0, B, H5P_DEFAULT}))
+    throw IoError("HDF5: writing /bonds failed (disk full or file not writable?)");
+}
+
+bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& index, const h5::RowBlock& rows) {
+  const std::size_t B = b.size();
   h5::Handle g = h5::create_group(file, "bonds");
   h5::write_attr(g, "description",
                  std::string("parallel bonds between the spheres id_a and id_b (common/bond_file.hpp); "
                              "sphere_index: their rows in /spheres (XDMF Polyline connectivity)"));
-  h5::write_dataset(g, "id_a", b.id_a.data(), B, 1, "1");
-  h5::write_dataset(g, "id_b", b.id_b.data(), B, 1, "1");
-  h5::write_dataset(g, "sphere_index", index.data(), B, 2, "1");
+  bool ok = h5::write_dataset_rows(g, "id_a", b.id_a.data(), B, 1, "1", rows);
+  ok = h5::write_dataset_rows(g, "id_b", b.id_b.data(), B, 1, "1", rows) && ok;
+  ok = h5::write_dataset_rows(g, "sphere_index", index.data(), B, 2, "1", rows) && ok;
   BondTable::zip_columns([&](const BondColumn& c, const std::vector<double>& v) {
-    h5::write_dataset(g, c.name, v.data(), B, 1, c.unit);
+    ok = h5::write_dataset_rows(g, c.name, v.data(), B, 1, c.unit, rows) && ok;
   }, b);
-  if (!b.broken.empty()) h5::write_dataset(g, "broken", b.broken.data(), B, 1, "1");
+  if (!b.broken.empty()) ok = h5::write_dataset_rows(g, "broken", b.broken.data(), B, 1, "1", rows) && ok;
+  return ok;
 }
 
 BondTable read_bonds(hid_t file, const std::string& path, const std::vector<std::uint64_t>& sphere_ids) {

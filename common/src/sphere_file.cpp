@@ -58,6 +58,10 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
 }
 
 void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n) {
+  write_sphere_xdmf(path, s, n, s.bonds.size(), !s.bonds.broken.empty());
+}
+
+void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n, std::size_t bonds, bool broken) {
   using namespace detail;
   XdmfGrid grid{"spheres", s.time, n, basename(path), {}, {}, {}, 0};
   SphereSet::zip_arrays([&](const SphereArray& a) {
@@ -68,18 +72,18 @@ void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t 
       grid.attributes.push_back({a.name, h5path, a.width, a.scalar == SphereScalar::UInt64 ? "UInt" : "Float", 8});
   });
   for (auto& a : field_attributes("/spheres", s.fields)) grid.attributes.push_back(a);
-  if (s.bonds.empty()) {
+  if (bonds == 0) {
     write_xdmf(xdmf_path_for(path), {grid});
     return;
   }
   // bonds as lines between the sphere positions (bond_file.hpp)
   XdmfGrid lines{"bonds", s.time, n, grid.h5file, grid.position_path, {}, {}, 0};
   lines.connectivity_path = "/bonds/sphere_index";
-  lines.elements = s.bonds.size();
+  lines.elements = bonds;
   BondTable::zip_columns([&](const BondColumn& c, const std::vector<double>&) {
     lines.attributes.push_back({c.name, std::string("/bonds/") + c.name, 1, "Float", 8, "Cell"});
   }, s.bonds);
-  if (!s.bonds.broken.empty()) lines.attributes.push_back({"broken", "/bonds/broken", 1, "Float", 8, "Cell"});
+  if (broken) lines.attributes.push_back({"broken", "/bonds/broken", 1, "Float", 8, "Cell"});
   write_text_atomic(xdmf_path_for(path), xdmf_text_spatial("spheres_and_bonds", {grid, lines}));
 }
 

@@ -32,6 +32,18 @@ void BondSet::add(std::uint64_t a, std::uint64_t b, double kn_, double ks_, doub
   Mb.push_back(Vec3::Zero());
   n_old.push_back(n0);
   Mt.push_back(0.0);
+  released.push_back(0.0);
+}
+
+void BondSet::append(const BondSet& o, std::size_t k) {
+  zip_arrays([k](auto& to, const auto& from) { to.push_back(from[k]); }, *this, o);
+}
+
+double BondSet::released_total() const {
+  common::ExactSum e;
+  e.add(released_base);
+  for (double r : released) e.add(r);
+  return e.value();
 }
 
 std::size_t BondSet::broken_count() const {
@@ -188,8 +200,8 @@ void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::ve
   const double sigma = Fn / q.A + Mb.norm() * rb / q.I;
   const double tau = Fs.norm() / q.A + std::fabs(Mt) * rb / q.J;
   if (sigma > b_.sigma_c[k] || tau > b_.tau_c[k]) {
-    b_.released += (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
-                   (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
+    b_.released[k] = (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
+                     (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
     b_.broken[k] = 1;
     ++breaks_;
     b_.Fs[k].setZero();
@@ -205,15 +217,10 @@ void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::ve
   T[b] += lb * nxF - Mt * n - Mb;
 }
 
-double BondSystem::elastic_energy(const Spheres& sp) const {
-  double e = 0.0;
-  for (std::size_t k = 0; k < b_.size(); ++k) {
-    if (b_.broken[k]) continue;
-    const Section q = section(b_.radius[k]);
-    const double Fn = b_.kn[k] * q.A * ((sp.x[ib_[k]] - sp.x[ia_[k]]).norm() - b_.length0[k]);
-    if (b_.kn[k] > 0) e += Fn * Fn / (2.0 * b_.kn[k] * q.A) + b_.Mb[k].squaredNorm() / (2.0 * b_.kn[k] * q.I);
-    if (b_.ks[k] > 0) e += b_.Fs[k].squaredNorm() / (2.0 * b_.ks[k] * q.A) + b_.Mt[k] * b_.Mt[k] / (2.0 * b_.ks[k] * q.J);
-  }
+common::ExactSum BondSystem::elastic_sum(const Spheres& sp, const std::vector<std::uint8_t>* keep) const {
+  common::ExactSum e;
+  for (std::size_t k = 0; k < b_.size(); ++k)
+    if (!b_.broken[k] && (!keep || (*keep)[k])) e.add(energy(k, sp));
   return e;
 }
 

@@ -13,6 +13,7 @@
 #include "common/h5.hpp"
 #include "common/run_identity.hpp"
 #include "common/status.hpp"
+#include "io_bonds.hpp"
 
 namespace ssdem {
 namespace {
@@ -133,7 +134,7 @@ void write_snapshot(const std::string& path, const Spheres& sp, double time, std
 }
 
 bool write_state_group(long long file, const SimState& st, const StateHeader& h, const common::h5::RowBlock& sph,
-                       const common::h5::RowBlock& hist) {
+                       const common::h5::RowBlock& hist, const common::h5::RowBlock& bond, double bond_released) {
   namespace h5 = common::h5;
   const hid_t f = static_cast<hid_t>(file);
   const std::size_t n = st.a.size();
@@ -191,27 +192,7 @@ bool write_state_group(long long file, const SimState& st, const StateHeader& h,
     for (std::size_t p = 0; p < P; ++p) buf[p] = st.history[p].q[k];
     ok = h5::write_dataset_rows(hg, kHistScalFields[k].name, buf.data(), P, 1, kHistScalFields[k].unit, hist) && ok;
   }
-  if (!st.bonds.empty()) {  // bonds with their state, by sphere ids (bonds.hpp; one process only)
-    const BondSet& b = st.bonds;
-    const std::size_t B = b.size();
-    h5::Handle bg = h5::create_group(g, "bonds");
-    h5::write_attr(bg, "released_energy", b.released);
-    h5::write_dataset(bg, "id_a", b.id_a.data(), B, 1, "1");
-    h5::write_dataset(bg, "id_b", b.id_b.data(), B, 1, "1");
-    h5::write_dataset(bg, "kn", b.kn.data(), B, 1, "N/m^3");
-    h5::write_dataset(bg, "ks", b.ks.data(), B, 1, "N/m^3");
-    h5::write_dataset(bg, "sigma_c", b.sigma_c.data(), B, 1, "Pa");
-    h5::write_dataset(bg, "tau_c", b.tau_c.data(), B, 1, "Pa");
-    h5::write_dataset(bg, "radius", b.radius.data(), B, 1, "m");
-    h5::write_dataset(bg, "length0", b.length0.data(), B, 1, "m");
-    std::vector<double> br(b.broken.begin(), b.broken.end());
-    h5::write_dataset(bg, "broken", br.data(), B, 1, "1");
-    auto fs = flat(b.Fs), mb = flat(b.Mb), no = flat(b.n_old);
-    h5::write_dataset(bg, "Fs", fs.data(), B, 3, "N");
-    h5::write_dataset(bg, "Mb", mb.data(), B, 3, "N m");
-    h5::write_dataset(bg, "n_old", no.data(), B, 3, "1");
-    h5::write_dataset(bg, "Mt", b.Mt.data(), B, 1, "N m");
-  }
+  if (bond.total > 0) ok = write_bond_state(g, st.bonds, bond, bond_released) && ok;  // io_bonds.cpp
   return ok;
 }
 
@@ -220,7 +201,8 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
   const StateHeader h{dt, gravity_every, kn, identity, !st.ag.empty(), !st.a_prev.empty(), !st.level.empty()};
   auto hook = [&](long long fid) {
     if (!write_state_group(fid, st, h, common::h5::RowBlock{0, st.a.size(), H5P_DEFAULT},
-                           common::h5::RowBlock{0, st.history.size(), H5P_DEFAULT}))
+                           common::h5::RowBlock{0, st.history.size(), H5P_DEFAULT},
+                           common::h5::RowBlock{0, st.bonds.size(), H5P_DEFAULT}, st.bonds.released_total()))
       throw common::IoError("HDF5: writing " + path + " failed (disk full or file not writable?)");
   };
   const common::SphereSet set = to_sphere_set(st.sp, st.time, st.step);
@@ -281,28 +263,7 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
       const auto v = h5::read_doubles(f, name, P, 1, path);
       for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].q[k] = v[p];
     }
-    if (h5::exists(f, "/ssdem_state/bonds")) {
-      BondSet& b = st.bonds;
-      const std::string g = "/ssdem_state/bonds/";
-      b.id_a = h5::read_u64(f, g + "id_a", -1, 1, path);
-      const long long B = static_cast<long long>(b.id_a.size());
-      b.id_b = h5::read_u64(f, g + "id_b", B, 1, path);
-      b.kn = h5::read_doubles(f, g + "kn", B, 1, path);
-      b.ks = h5::read_doubles(f, g + "ks", B, 1, path);
-      b.sigma_c = h5::read_doubles(f, g + "sigma_c", B, 1, path);
-      b.tau_c = h5::read_doubles(f, g + "tau_c", B, 1, path);
-      b.radius = h5::read_doubles(f, g + "radius", B, 1, path);
-      b.length0 = h5::read_doubles(f, g + "length0", B, 1, path);
-      const auto br = h5::read_doubles(f, g + "broken", B, 1, path);
-      b.broken.assign(br.size(), 0);
-      for (std::size_t k = 0; k < br.size(); ++k) b.broken[k] = br[k] != 0.0 ? 1 : 0;
-      b.Fs = unflat(h5::read_doubles(f, g + "Fs", B, 3, path));
-      b.Mb = unflat(h5::read_doubles(f, g + "Mb", B, 3, path));
-      b.n_old = unflat(h5::read_doubles(f, g + "n_old", B, 3, path));
-      b.Mt = h5::read_doubles(f, g + "Mt", B, 1, path);
-      h5::Handle bg = h5::open_group(f, "ssdem_state/bonds", path);
-      b.released = h5::read_attr_double(bg, "released_energy", path);
-    }
+    if (h5::exists(f, "/ssdem_state/bonds")) st.bonds = read_bond_state(f, path);  // io_bonds.cpp
   };
   const common::SphereSet s = common::read_sphere_set(path, hook);
   if (!found) throw common::InputError(path + ": not an ssdem-grav checkpoint (no /ssdem_state group)");

@@ -70,7 +70,7 @@ void Simulation::setup_multirate(const SimState* st) {
   if (contacts_) {
     contacts_->set_reinsert_fraction(0.25);  // every pair with gap < skin/2 is listed
     lr_.configure(PairClock(cfg_.contact, cfg_.dt, cfg_.pair_steps_per_contact, kMaxLevel), 0.5 * contacts_->skin());
-    if (bonds_) setup_bond_levels();  // bonds need contacts
+    if (bonds_) blevels_ = std::make_unique<BondLevels>(*bonds_, sp_, lr_);  // bonds need contacts
   }
 }
 
@@ -268,10 +268,10 @@ void Simulation::step_multirate() {
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-  if (bonds_ && bonds_->breaks() != bond_breaks_seen_) bond_index();  // broken bonds leave the rules
+  if (blevels_) blevels_->refresh();  // broken bonds leave the rules
   if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
-  lr_.assign(sp_, contacts_.get(), ss.tz, ss.L, bterms_.get());
-  if (contacts_) lr_.equalise(sp_, *contacts_, ss.tz, bterms_.get());
+  lr_.assign(sp_, contacts_.get(), ss.tz, ss.L, blevels_.get());
+  if (contacts_) lr_.equalise(sp_, *contacts_, ss.tz, blevels_.get());
   lstats_.promotions = lr_.promotions;
   lr_.active(active_);
   const double tl = omp_get_wtime() - t0;

@@ -8,61 +8,60 @@
 #include <algorithm>
 #include <memory>
 
-#include "ssdem/simulation.hpp"
+#include "ssdem/bonds.hpp"
+#include "ssdem/level_rules.hpp"
 
 namespace ssdem {
 
-// The bond terms of the level rules (LevelRules::BondTerms), over the intact-bond index (bond_index).
-struct Simulation::BondLevelTerms final : LevelRules::BondTerms {
-  explicit BondLevelTerms(Simulation& s) : sim(s) {}
-  Simulation& sim;
-  // min(c, l_b of sphere i's intact bonds)
-  int cap(std::uint32_t i, int c) const override {
-    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1] && c > 0; ++q)
-      c = std::min<int>(c, sim.blevel_[sim.badj_[q]]);
-    return c;
-  }
-  // min(t, min over i's intact bonds of min(l_partner, l_b)): the Jacobi bound of the equalisation
-  int bound(std::uint32_t i, int t) const override {
-    const auto& ia = sim.bonds_->index_a();
-    const auto& ib = sim.bonds_->index_b();
-    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1] && t > 0; ++q) {
-      const std::uint32_t k = sim.badj_[q];
-      const std::uint32_t j = ia[k] == i ? ib[k] : ia[k];
-      t = std::min({t, static_cast<int>(sim.lr_.level[j]), static_cast<int>(sim.blevel_[k])});
-    }
-    return t;
-  }
-  // Worklist step of the equalisation over sphere i's intact bonds: both ends to min(l_a, l_b, l_bond).
-  void enforce(std::uint32_t i, int tz, LevelRules& r) override {
-    const auto& ia = sim.bonds_->index_a();
-    const auto& ib = sim.bonds_->index_b();
-    for (std::uint32_t q = sim.brow_[i]; q < sim.brow_[i + 1]; ++q) {
-      const std::uint32_t k = sim.badj_[q];
-      const std::uint32_t a = ia[k], b = ib[k];
-      const int t = std::min({static_cast<int>(r.level[a]), static_cast<int>(r.level[b]), static_cast<int>(sim.blevel_[k])});
-      r.lower(a, t, tz);
-      r.lower(b, t, tz);
-    }
-  }
-};
-
-void Simulation::setup_bond_levels() {
-  const std::size_t nb = bonds_->index_a().size();
+BondLevels::BondLevels(const BondSystem& b, const Spheres& sp, LevelRules& lr) : b_(b), lr_(lr) {
+  const std::size_t nb = b.index_a().size();
   blevel_.resize(nb);
   for (std::size_t k = 0; k < nb; ++k)
-    blevel_[k] = static_cast<std::uint8_t>(lr_.clock().level_of_time(bonds_->mode_time(k, sp_)));
-  bond_index();
-  bterms_ = std::make_unique<BondLevelTerms>(*this);
+    blevel_[k] = static_cast<std::uint8_t>(lr.clock().level_of_time(b.mode_time(k, sp)));
+  index();
 }
 
-// The intact bonds of every sphere (CSR, ascending bond order), rebuilt at the level decision
-// after a bond broke: the level rules then see intact bonds only.
-void Simulation::bond_index() {
-  const std::size_t n = sp_.size();
-  const auto& ia = bonds_->index_a();
-  const auto& ib = bonds_->index_b();
-  const auto& broken = bonds_->bonds().broken;
+void BondLevels::refresh() {
+  if (b_.breaks() != seen_) index();
+}
+
+// min(c, l_b of sphere i's intact bonds)
+int BondLevels::cap(std::uint32_t i, int c) const {
+  for (std::uint32_t q = brow_[i]; q < brow_[i + 1] && c > 0; ++q) c = std::min<int>(c, blevel_[badj_[q]]);
+  return c;
+}
+
+// min(t, min over i's intact bonds of min(l_partner, l_b)): the Jacobi bound of the equalisation
+int BondLevels::bound(std::uint32_t i, int t) const {
+  const auto& ia = b_.index_a();
+  const auto& ib = b_.index_b();
+  for (std::uint32_t q = brow_[i]; q < brow_[i + 1] && t > 0; ++q) {
+    const std::uint32_t k = badj_[q];
+    const std::uint32_t j = ia[k] == i ? ib[k] : ia[k];
+    t = std::min({t, static_cast<int>(lr_.level[j]), static_cast<int>(blevel_[k])});
+  }
+  return t;
+}
+
+// Worklist step of the equalisation over sphere i's intact bonds: both ends to min(l_a, l_b, l_bond).
+void BondLevels::enforce(std::uint32_t i, int tz, LevelRules& r) {
+  const auto& ia = b_.index_a();
+  const auto& ib = b_.index_b();
+  for (std::uint32_t q = brow_[i]; q < brow_[i + 1]; ++q) {
+    const std::uint32_t k = badj_[q];
+    const std::uint32_t a = ia[k], b = ib[k];
+    const int t = std::min({static_cast<int>(r.level[a]), static_cast<int>(r.level[b]), static_cast<int>(blevel_[k])});
+    r.lower(a, t, tz);
+    r.lower(b, t, tz);
+  }
+}
+
+// The intact bonds of every sphere (CSR, ascending bond order): the level rules see intact bonds only.
+void BondLevels::index() {
+  const std::size_t n = lr_.level.size();
+  const auto& ia = b_.index_a();
+  const auto& ib = b_.index_b();
+  const auto& broken = b_.bonds().broken;
   const std::size_t nb = ia.size();
   brow_.assign(n + 1, 0);
   for (std::size_t k = 0; k < nb; ++k)
@@ -78,7 +77,7 @@ void Simulation::bond_index() {
       badj_[bfill_[ia[k]]++] = static_cast<std::uint32_t>(k);
       badj_[bfill_[ib[k]]++] = static_cast<std::uint32_t>(k);
     }
-  bond_breaks_seen_ = bonds_->breaks();
+  seen_ = b_.breaks();
 }
 
 }  // namespace ssdem

@@ -160,6 +160,13 @@ std::string levels_report(const LevelStats& l, std::int64_t steps, std::size_t s
      << " of single-rate)";
   return os.str();
 }
+std::string bond_report(std::size_t n, std::size_t broken, double stored, double released) {
+  std::ostringstream os;
+  os.precision(6);
+  os << "bonds: " << n << " in all, " << broken << " broken, " << n - broken << " intact; stored in intact bonds "
+     << stored << " J; stored energy of the broken bonds (released, left total_J) " << released << " J";
+  return os.str();
+}
 }  // namespace detail
 namespace {
 using detail::is_output;
@@ -204,13 +211,7 @@ std::string cadence_report(const Simulation& sim) {
 // not lost: bonds.hpp).
 std::string bond_report(const Simulation& sim) {
   const BondSystem& b = *sim.bond_system();
-  const std::size_t n = b.bonds().size(), broken = b.broken_count();
-  std::ostringstream os;
-  os.precision(6);
-  os << "bonds: " << n << " in all, " << broken << " broken, " << n - broken << " intact; stored in intact bonds "
-     << b.elastic_energy(sim.spheres()) << " J; stored energy of the broken bonds (released, left total_J) "
-     << b.released_energy() << " J";
-  return os.str();
+  return detail::bond_report(b.bonds().size(), b.broken_count(), b.elastic_energy(sim.spheres()), b.released_energy());
 }
 }  // namespace
 

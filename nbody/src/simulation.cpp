@@ -345,9 +345,7 @@ double Simulation::bytes_per_sphere() const {
   if (tree_) b += tree_->bytes_per_sphere(n);
   if (bonds_) b += bonds_->bytes_per_sphere(n);
   if (cfg_.multirate) b += 4 + 8 + 2 * 8 + 4;  // levels/flags, opening step, h_open, tau_prev, active
-  if (cfg_.multirate && bonds_ && n > 0)  // bond levels, sphere -> bond index
-    b += static_cast<double>(blevel_.size() + 4 * (brow_.size() + badj_.size() + bfill_.size())) /
-         static_cast<double>(n);
+  if (blevels_ && n > 0) b += blevels_->bytes() / static_cast<double>(n);  // bond levels, sphere -> bond index
   return b;
 }
 

@@ -13,6 +13,8 @@
 #include <filesystem>
 #include <string>
 
+#include <hdf5.h>
+
 #include "common/status.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/io.hpp"
@@ -245,4 +247,55 @@ TEST(Bonds, CheckpointRestartIsBitIdentical) {
     ASSERT_EQ(ref.spheres().x[i], second.spheres().x[i]) << i;
     ASSERT_EQ(ref.spheres().w[i], second.spheres().w[i]) << i;
   }
+}
+
+TEST(Bonds, CheckpointKeepsEachBondsReleasedEnergyAndAnOlderFilesTotal) {
+  // each broken bond's released energy in /ssdem_state/bonds/released; a checkpoint without that
+  // dataset (written before 2026-12-05) keeps its total as released_base, which a later
+  // checkpoint carries on (attribute released_base)
+  Spheres sp = cube(3, 2 * kS * 1.002, 2e-3);
+  BondParams bp;
+  bp.kn = 2e8;
+  bp.ks = 1e8;
+  bp.sigma_c = 5e4;
+  bp.tau_c = 1e300;
+  SimConfig c = bonded_config(sp, bp, 30.0, 1e8);
+  sp.v[13] = Vec3(0.3, 0, 0);
+  Simulation ref(sp, c);
+  ref.run(600);
+  const SimState s0 = ref.state();
+  const double total = ref.bond_system()->released_energy();
+  ASSERT_GT(s0.bonds.broken_count(), 0u);
+  ASSERT_GT(total, 0.0);
+  std::size_t with_energy = 0;
+  for (std::size_t k = 0; k < s0.bonds.size(); ++k) {
+    EXPECT_EQ(s0.bonds.released[k] > 0.0, s0.bonds.broken[k] != 0) << k;  // broken bonds only
+    with_energy += s0.bonds.released[k] > 0.0;
+  }
+  const std::string path = (std::filesystem::temp_directory_path() / "ssdem_bonds_released.h5").string();
+  write_checkpoint(path, s0, c.dt, 1, common::Provenance{});
+  SimState st = read_checkpoint(path);
+  EXPECT_EQ(st.bonds.released, s0.bonds.released);
+  EXPECT_EQ(st.bonds.released_base, 0.0);
+  EXPECT_EQ(st.bonds.released_total(), total);
+  {  // an older file: no per-bond dataset
+    const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    ASSERT_GE(f, 0);
+    ASSERT_GE(H5Ldelete(f, "/ssdem_state/bonds/released", H5P_DEFAULT), 0);
+    ASSERT_GE(H5Adelete_by_name(f, "/ssdem_state/bonds", "released_base", H5P_DEFAULT), 0);
+    H5Fclose(f);
+  }
+  st = read_checkpoint(path);
+  EXPECT_EQ(st.bonds.released_base, total);
+  for (double e : st.bonds.released) EXPECT_EQ(e, 0.0);
+  EXPECT_EQ(st.bonds.released_total(), total);
+  Simulation cont(st, c);
+  EXPECT_EQ(cont.bond_system()->released_energy(), total);
+  write_checkpoint(path, cont.state(), c.dt, 1, common::Provenance{});
+  st = read_checkpoint(path);
+  std::filesystem::remove(path);
+  EXPECT_EQ(st.bonds.released_base, total);
+  EXPECT_EQ(st.bonds.released_total(), total);
+  std::printf("%zu broken bonds hold %.6e J; an older checkpoint's total carried as the base: %.6e J\n", with_energy,
+              total, st.bonds.released_base);
 }

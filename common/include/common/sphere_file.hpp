@@ -97,6 +97,9 @@ void write_sphere_set(const std::string& path, const SphereSet& s, const Provena
 bool write_sphere_content(long long file, const SphereSet& s, const Provenance& prov, const h5::RowBlock& block);
 /// The XDMF sidecar of the sphere file `path` of `n` spheres (the fields and bonds of `s`).
 void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n);
+/// The same for a file of `bonds` bonds (with the broken column if `broken`), whatever s.bonds
+/// holds (the MPI writer: each rank holds a block of them).
+void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t n, std::size_t bonds, bool broken);
 /// Validates like read_particle_snapshot, plus positive radius and finite spin, and /bonds if
 /// present (read_bonds: ids, ranges; InputError naming file, dataset and range).
 SphereSet read_sphere_set(const std::string& path, const H5Hook& extra = {});

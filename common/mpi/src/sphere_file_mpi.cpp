@@ -2,6 +2,7 @@
 /// Implementation of common/sphere_file_mpi.hpp (the header states the contract).
 #include "common/sphere_file_mpi.hpp"
 
+#include <optional>
 #include <stdexcept>
 
 #include "common/agreed.hpp"
@@ -69,17 +70,42 @@ std::uintmax_t sphere_file_bytes(const SphereSet& s, std::size_t total) {
   return row * total + (std::uintmax_t{1} << 20) + 16384 * (7 + s.fields.size());
 }
 
+BondBlock::BondBlock(Comm& comm, const BondRows& local) {
+  const BondTable& t = local.table;
+  if (!comm.all(local.row.size() == t.size() && local.index.size() == 2 * t.size() && t.id_b.size() == t.size() &&
+                t.broken.size() == t.size()))
+    throw std::logic_error("BondBlock: a rank's bond rows do not match its bonds");
+  long long n = static_cast<long long>(t.size());
+  comm.sum(&n, 1);
+  total = static_cast<std::size_t>(n);
+  const SortedRows plan(comm, keys_of(local.row), dense_splitters(total, comm.size));
+  offset = plan.offset();
+  table.id_a = plan.move(t.id_a, 1);
+  table.id_b = plan.move(t.id_b, 1);
+  index = plan.move(local.index, 2);
+  BondTable::zip_columns([&](const BondColumn&, std::vector<double>& to, const std::vector<double>& from) {
+    to = plan.move(from, 1);
+  }, table, t);
+  table.broken = plan.move(t.broken, 1);
+}
+
 void write_sphere_set_mpi(Comm& comm, const std::string& path, const SphereSet& local,
                           const std::vector<std::uint64_t>& row, const std::vector<Field>& block_fields,
-                          const Provenance& prov) {
-  if (!comm.all(local.bonds.empty())) throw std::logic_error("write_sphere_set_mpi: bonds are not distributed");
+                          const Provenance& prov, const BondRows* bonds) {
+  if (!comm.all(local.bonds.empty())) throw std::logic_error("write_sphere_set_mpi: bonds go in `bonds`");
+  if (!comm.all(bonds != nullptr) && !comm.all(bonds == nullptr))
+    throw std::logic_error("write_sphere_set_mpi: bonds given on some ranks only (" + path + ")");
   const SphereBlock b(comm, local, row, block_fields, path);
   agreed(comm, [&] { check_output_spheres(b.set, path); });  // a NaN on any rank: nothing written
-  ParallelFile file(comm, path, sphere_file_bytes(b.set, b.plan.total()));
-  const bool ok = write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
+  std::optional<BondBlock> bb;
+  if (bonds) bb.emplace(comm, *bonds);
+  const std::size_t nb = bb ? bb->total : 0;
+  ParallelFile file(comm, path, sphere_file_bytes(b.set, b.plan.total()) + nb * 96);
+  bool ok = write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
+  if (nb > 0) ok = write_bond_rows(file.id(), bb->table, bb->index, file.rows(bb->offset, nb)) && ok;
   file.commit(ok);
   agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike
-    if (comm.rank == 0) write_sphere_xdmf(path, b.set, b.plan.total());
+    if (comm.rank == 0) write_sphere_xdmf(path, b.set, b.plan.total(), nb, nb > 0);
   });
 }
 

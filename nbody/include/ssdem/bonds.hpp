@@ -21,7 +21,9 @@
 ///   The bond breaks irreversibly in the step in which sigma > sigma_c or tau > tau_c (P&C §2.2);
 ///   its force is then not applied and its stored elastic energy
 ///     E_b = F_n^2 / (2 k_n A) + |F_s|^2 / (2 k_s A) + M_t^2 / (2 k_s J) + |M_b|^2 / (2 k_n I)
-///   is added to the released-energy account (Diagnostics::bond_released), not lost silently.
+///   is added to the released-energy account (Diagnostics::bond_released), not lost silently:
+///   each bond keeps the energy it released, and the account is their exact sum (common/exact_sum.hpp),
+///   so it does not depend on the order in which bonds broke or on which MPI rank holds them.
 /// Contacts act in parallel with bonds (as in P&C's parallel bond: the bond adds to the contact).
 /// Bonds are stored by sphere ids (BondSet): indices are resolved once per Simulation, so they
 /// survive reordering, checkpoints and restarts (bit-identical).
@@ -39,6 +41,7 @@
 #include <string>
 #include <vector>
 
+#include "common/exact_sum.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
@@ -52,13 +55,25 @@ struct BondSet {
   std::vector<std::uint8_t> broken;     ///< 1 once broken (irreversible)
   std::vector<Vec3> Fs, Mb, n_old;      ///< shear force [N], bending moment [N m], last normal
   std::vector<double> Mt;               ///< twisting moment [N m]
-  double released = 0.0;                ///< stored energy of the bonds broken so far [J]
+  std::vector<double> released;         ///< stored energy the bond released when it broke [J] (0: intact)
+  /// Released energy not held per bond [J]: that of a checkpoint written before bonds kept their own.
+  double released_base = 0.0;
   std::size_t size() const { return id_a.size(); }
   bool empty() const { return id_a.empty(); }
   /// Append an intact bond at rest.
   void add(std::uint64_t a, std::uint64_t b, double kn_, double ks_, double sc, double tc, double rb,
            double L0, const Vec3& n0);
+  /// Append bond k of `o` with its state.
+  void append(const BondSet& o, std::size_t k);
   std::size_t broken_count() const;
+  /// Stored energy of the bonds broken so far [J]: released_base + the exact sum of `released`.
+  double released_total() const;
+  /// f(array of s, ...) for every per-bond array, of one or more sets side by side.
+  template <class F, class... S>
+  static void zip_arrays(F&& f, S&... s) {
+    f(s.id_a...), f(s.id_b...), f(s.kn...), f(s.ks...), f(s.sigma_c...), f(s.tau_c...), f(s.radius...);
+    f(s.length0...), f(s.broken...), f(s.Fs...), f(s.Mb...), f(s.n_old...), f(s.Mt...), f(s.released...);
+  }
 };
 
 /// Parameters of generated bonds (scene keys bonds.*).
@@ -92,8 +107,11 @@ class BondSystem {
   void compute_synchronised(const Spheres& sp, const std::vector<std::uint8_t>& sync,
                             const std::vector<std::int64_t>& topen, std::int64_t step, double dt,
                             std::vector<Vec3>& F, std::vector<Vec3>& T);
-  /// Elastic energy stored in the intact bonds [J].
-  double elastic_energy(const Spheres& sp) const;
+  /// Elastic energy stored in the intact bonds [J] (an exact sum: independent of the bond order).
+  double elastic_energy(const Spheres& sp) const { return elastic_sum(sp, nullptr).value(); }
+  /// The exact sum of the intact bonds' elastic energies; only bonds k with keep[k] != 0 if keep is
+  /// given (an MPI rank's own bonds).
+  common::ExactSum elastic_sum(const Spheres& sp, const std::vector<std::uint8_t>* keep) const;
   /// Elastic energy stored in bond k [J] (0 once broken).
   double energy(std::size_t k, const Spheres& sp) const;
   /// Shortest mode half-period of bond k [s] (the dt rule's bond time; INFINITY if kn = ks = 0).
@@ -105,7 +123,7 @@ class BondSystem {
   std::size_t breaks() const { return breaks_; }
   const BondSet& bonds() const { return b_; }
   std::size_t broken_count() const { return b_.broken_count(); }
-  double released_energy() const { return b_.released; }
+  double released_energy() const { return b_.released_total(); }
   double bytes_per_sphere(std::size_t n) const;
 
  private:

@@ -9,9 +9,12 @@
 ///                 history/{id_a, id_b (uint64 P), and one dataset per history field of the
 ///                          contact table (contact/table.hpp): n_old (P x 3, 1), S (P x 3, m),
 ///                          theta_r (P x 3, rad), theta_q (P, rad), ...}
-///                 bonds/ (only with bonds; bonds.hpp): attr released_energy [J]; id_a, id_b (uint64 B),
-///                          kn, ks (N/m^3), sigma_c, tau_c (Pa), radius, length0 (m), broken (0/1),
-///                          Fs (B x 3, N), Mb (B x 3, N m), n_old (B x 3), Mt (N m)
+///                 bonds/ (only with bonds; bonds.hpp): attrs released_energy [J] (the total),
+///                          released_base [J] (BondSet::released_base);
+///                          id_a, id_b (uint64 B), kn, ks (N/m^3), sigma_c, tau_c (Pa), radius,
+///                          length0 (m), broken (0/1), Fs (B x 3, N), Mb (B x 3, N m), n_old (B x 3),
+///                          Mt (N m), released (J: what each broken bond released; a file without
+///                          it, written before 2026-12-05, keeps its total in released_energy)
 /// written through the common::H5Hook extra-group mechanism. Wall contacts have
 /// id_b = 0xFFFFFFFF00000000 + wall index. Together with positions, velocities and spins this is
 /// the complete dynamic state: a restart continues bit-identically.
@@ -57,11 +60,12 @@ struct StateHeader {
 /// The /ssdem_state group of a checkpoint, written into the open HDF5 file `file`: this process's
 /// rows `sph` of the per-sphere arrays (st.a.size() rows of st.a, st.alpha, ...) and `hist` of the
 /// history records (st.history), the attributes from st and h (the same on every process).
-/// write_checkpoint writes the whole state; the MPI writer (mpi/io_mpi.hpp) each rank's blocks
-/// (bonds: only with the whole state). False if a data write failed; IoError if a group or
-/// dataset cannot be created.
+/// write_checkpoint writes the whole state; the MPI writer (mpi/io_mpi.hpp) each rank's blocks;
+/// `bond` the rows of st.bonds (no bonds group when bond.total == 0), `bond_released` the run's
+/// total released energy (BondSet::released_total of all the bonds). False if a data write
+/// failed; IoError if a group or dataset cannot be created.
 bool write_state_group(long long file, const SimState& st, const StateHeader& h, const common::h5::RowBlock& sph,
-                       const common::h5::RowBlock& hist);
+                       const common::h5::RowBlock& hist, const common::h5::RowBlock& bond, double bond_released);
 /// Read a checkpoint; `dt`, `gravity_every` and `kn` return the values it was written with,
 /// `identity` the recorded run identity text ("" for a checkpoint written without one).
 SimState read_checkpoint(const std::string& path, double* dt = nullptr, int* gravity_every = nullptr,

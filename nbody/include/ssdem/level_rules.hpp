@@ -131,4 +131,34 @@ void take_subset(SubsetCache& c, int tz, const ContactSystem& cs, const std::vec
                  double h, std::vector<std::size_t>& off, ContactSystem::Subset& sub);
 void keep_subset(SubsetCache& c, int tz, ContactSystem::Subset& sub);
 
+class BondSystem;
+
+/// The bond terms of the level rules (multirate.hpp, "Bonds"; multirate_bonds.cpp) over the bonds
+/// of `b` and the spheres of `lr`: the level l_b of every bond and, per sphere, its intact bonds.
+/// Simulation holds one over all the bonds, an MPI rank (mpi/domain_sim.hpp) one over the bonds
+/// of its local set. Both references must outlive it.
+class BondLevels final : public LevelRules::BondTerms {
+ public:
+  BondLevels(const BondSystem& b, const Spheres& sp, LevelRules& lr);
+  /// Rebuild the index of intact bonds if a bond broke since it was built (broken bonds leave
+  /// the rules at the next level decision).
+  void refresh();
+  int cap(std::uint32_t i, int c) const override;
+  int bound(std::uint32_t i, int t) const override;
+  void enforce(std::uint32_t i, int tz, LevelRules& r) override;
+  const std::vector<std::uint8_t>& levels() const { return blevel_; }
+  /// Bytes held (levels and index).
+  double bytes() const {
+    return static_cast<double>(blevel_.size() + 4 * (brow_.size() + badj_.size() + bfill_.size()));
+  }
+
+ private:
+  void index();
+  const BondSystem& b_;
+  LevelRules& lr_;
+  std::vector<std::uint8_t> blevel_;                ///< level l_b of each bond
+  std::vector<std::uint32_t> brow_, badj_, bfill_;  ///< CSR: the intact bonds of each sphere (ascending)
+  std::size_t seen_ = 0;                            ///< BondSystem::breaks() when the CSR was built
+};
+
 }  // namespace ssdem

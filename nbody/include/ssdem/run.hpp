@@ -29,6 +29,7 @@ bool is_output(const std::string& name);                              ///< a fil
 std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
 std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1
 common::SeriesFormat series_format();                                 ///< series.csv columns
+common::SeriesFormat series_format(bool bonds);                       ///< with the bond columns if `bonds`
 /// One series.csv row from the diagnostics d at (step, time); E0 = the run's initial
 /// Diagnostics::accounted() (energy_error_J = accounted - E0); wall = elapsed wall seconds;
 /// `bonds`: the four bond columns of series_format(true) follow.
@@ -38,6 +39,9 @@ void series_row(common::SeriesRow& r, std::int64_t step, double time, const Diag
 double relative_energy_error(const Diagnostics& d, double E0);
 /// The run's energy balance at d, for the log and run_info.txt (one line).
 std::string energy_report(const Diagnostics& d, double E0);
+/// The bonds at the end of a run (one line): n bonds, `broken` of them broken, the energy
+/// `stored` in the intact ones and that `released` by the broken ones [J].
+std::string bond_report(std::size_t n, std::size_t broken, double stored, double released);
 /// When a run writes what: end time and step (rounded up to a gravity-block boundary), snapshot
 /// interval, checkpoint cadences, series cadence (a multiple of the fixed gravity block), paths.
 struct OutputPlan {

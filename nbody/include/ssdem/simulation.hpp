@@ -164,7 +164,10 @@ class Simulation {
   const LevelStats& level_stats() const { return lstats_; }
   const std::vector<std::uint8_t>& levels() const { return lr_.level; }
   /// Multi-rate level l_b of each bond (empty without bonds or in single-rate runs).
-  const std::vector<std::uint8_t>& bond_levels() const { return blevel_; }
+  const std::vector<std::uint8_t>& bond_levels() const {
+    static const std::vector<std::uint8_t> none;
+    return blevels_ ? blevels_->levels() : none;
+  }
   void run(std::int64_t nsteps) {
     for (std::int64_t k = 0; k < nsteps; ++k) step();
   }
@@ -209,14 +212,7 @@ class Simulation {
   void setup_multirate(const SimState* st);
   void step_multirate();
   void multirate_forces(const Substep& ss);
-  // bonds in the multi-rate level rule (multirate_bonds.cpp; only with bonds)
-  struct BondLevelTerms;
-  void setup_bond_levels();
-  void bond_index();
-  std::unique_ptr<LevelRules::BondTerms> bterms_;
-  std::vector<std::uint8_t> blevel_;        ///< level l_b of each bond
-  std::vector<std::uint32_t> brow_, badj_, bfill_;  ///< CSR: the intact bonds of each sphere (ascending)
-  std::size_t bond_breaks_seen_ = 0;               ///< BondSystem::breaks() when the CSR was built
+  std::unique_ptr<BondLevels> blevels_;  ///< bonds in the multi-rate level rule (only with bonds)
   void accelerations(const std::uint32_t* idx, std::size_t count);
   static double cpu_now_();
   LevelRules lr_;  ///< levels, synchronisation and the level rules (level_rules.hpp)

@@ -63,6 +63,7 @@ Diagnostics DomainSim::diagnostics() {
   comm_.bytes_sent += 2 * sizeof(unsigned long long) + sizeof(double);
   stats_.bytes_other += comm_.bytes_sent - b0;
   Diagnostics d;
+  if (nb_global_ > 0) bond_diagnostics(d, sums.elastic);  // domain_bonds.cpp
   sums.store(d);
   d.contacts = counts[0];
   d.wall_contacts = counts[1];

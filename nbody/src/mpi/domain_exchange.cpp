@@ -65,6 +65,7 @@ void DomainSim::distribute(const SimState& all) {
     std::size_t off = 0;
     get_sphere(b, off, own.sp, k);
   }
+  pick_bonds(all);  // domain_bonds.cpp
   rebuild_local(std::move(own), all.history);
 }
 
@@ -117,6 +118,8 @@ void DomainSim::exchange() {
   std::vector<HistoryRecord> got;
   for (const auto& b : comm_.alltoallv(out))
     for (std::size_t off = 0; off < b.size();) got.push_back(get<HistoryRecord>(b, off));
+  if (nb_global_ > 0)  // bonds: the owner's record to the new owners of both ends (domain_bonds.cpp)
+    for (const auto& b : comm_.alltoallv(route_bonds(dest))) bonds_in_.insert(bonds_in_.end(), b.begin(), b.end());
   stats_.bytes_exchange += comm_.bytes_sent - b0;
   ++stats_.exchanges;
   rebuild_local(std::move(own), got);
@@ -141,7 +144,8 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
   }
   const std::vector<double> boxes = comm_.gather(box);
   boxes_ = boxes;
-  // ghosts: own spheres within the reach of another rank's box
+  // ghosts: own spheres within the reach of another rank's box (at least the longest intact bond)
+  const double reach = nb_global_ > 0 ? std::max(reach_, bond_reach_ * (1.0 + 1e-9)) : reach_;
   std::vector<std::vector<char>> out(comm_.size);
   std::vector<std::vector<std::uint64_t>> sendg(comm_.size);
   if (reach_ >= 0.0)
@@ -149,7 +153,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
       for (int r = 0; r < comm_.size; ++r) {
         const double* bx = &boxes[7 * r];
         if (r == comm_.rank || bx[0] == 0.0) continue;
-        if (box_distance(own.sp.x[k], bx + 1) >= reach_) continue;
+        if (box_distance(own.sp.x[k], bx + 1) >= reach) continue;
         put(out[r], own.g[k]);
         put_sphere(own.sp, k, out[r]);
         if (cfg_.multirate) {
@@ -251,6 +255,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
       if (slot_of_id_.count(r.id_a) && (is_wall(r) || slot_of_id_.count(r.id_b))) mine.push_back(r);
     contacts_->import_history(sp_, mine);
   }
+  if (nb_global_ > 0) place_bonds();
 }
 
 std::vector<std::vector<char>> DomainSim::halo(const std::vector<std::vector<char>>& out, std::size_t record) {

@@ -22,6 +22,7 @@ DomainSim::Packed DomainSim::pack_local() const {
     put(p.history, second);
     put(p.history, r);
   }
+  pack_bonds(p.bonds);
   p.step = step_;
   p.time = time_;
   p.grav_step = grav_step_;
@@ -31,7 +32,7 @@ DomainSim::Packed DomainSim::pack_local() const {
 }
 
 DomainSim::Local DomainSim::unpack(const std::vector<char>& spheres, const std::vector<char>& history,
-                                   const Packed& scalars) const {
+                                   const std::vector<char>& bonds, const Packed& scalars) const {
   Local L;
   SimState& st = L.st;
   Owned mr;  // multi-rate fields
@@ -55,6 +56,7 @@ DomainSim::Local DomainSim::unpack(const std::vector<char>& spheres, const std::
     L.hkey.emplace_back(first, second);
     st.history.push_back(get<HistoryRecord>(history, off));
   }
+  unpack_bonds(bonds, L);
   L.has_prev = scalars.has_prev;
   st.step = scalars.step;
   st.time = scalars.time;
@@ -71,12 +73,12 @@ std::pair<std::uint64_t, std::uint64_t> DomainSim::history_key(const HistoryReco
 
 DomainSim::Local DomainSim::local_state() const {
   const Packed p = pack_local();
-  return unpack(p.spheres, p.history, p);
+  return unpack(p.spheres, p.history, p.bonds, p);
 }
 
 std::optional<DomainSim::Local> DomainSim::last_good_local() const {
   if (!last_good_) return std::nullopt;
-  return unpack(last_good_->spheres, last_good_->history, *last_good_);
+  return unpack(last_good_->spheres, last_good_->history, last_good_->bonds, *last_good_);
 }
 
 SimState DomainSim::gather_state() const { return assemble(pack_local()); }
@@ -93,12 +95,13 @@ std::optional<SimState> DomainSim::gather_last_good() const {
 
 SimState DomainSim::assemble(const Packed& mine) const {
   const double b0 = comm_.bytes_sent;
-  const std::vector<char> all = comm_.gather(mine.spheres, 0), hall = comm_.gather(mine.history, 0);
+  const std::vector<char> all = comm_.gather(mine.spheres, 0), hall = comm_.gather(mine.history, 0),
+                          ball = comm_.gather(mine.bonds, 0);
   std::vector<common::Field> carried = carried_;  // the ranks' blocks, in index order on rank 0
   for (common::Field& f : carried) f.values = comm_.gather(f.values, 0);
   stats_.bytes_other += comm_.bytes_sent - b0;
   if (comm_.rank != 0) return SimState{};
-  Local L = unpack(all, hall, mine);
+  Local L = unpack(all, hall, ball, mine);
   const std::size_t n = n_global_;
   SimState st;
   st.sp.resize(n);
@@ -132,6 +135,12 @@ SimState DomainSim::assemble(const Packed& mine) const {
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::sort(order.begin(), order.end(), [&](std::size_t p, std::size_t q) { return key[p] < key[q]; });
   for (std::size_t k : order) st.history.push_back(L.st.history[k]);
+  // bonds in the one-rank order
+  std::vector<std::size_t> border(L.brow.size());
+  std::iota(border.begin(), border.end(), std::size_t{0});
+  std::sort(border.begin(), border.end(), [&](std::size_t p, std::size_t q) { return L.brow[p] < L.brow[q]; });
+  for (std::size_t k : border) st.bonds.append(L.st.bonds, k);
+  st.bonds.released_base = bond_base_;
   return st;
 }
 

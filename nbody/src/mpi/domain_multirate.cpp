@@ -137,6 +137,8 @@ void DomainSim::multirate_forces(const Substep& ss) {
     take_subset(subsets_, ss.tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
     keep_subset(subsets_, ss.tz, subset_);
+    // bonds of synchronised spheres (both ends together: the equalisation), each with its step
+    if (bonds_) bonds_->compute_synchronised(sp_, lr_.sync, topen_, step_, h, F_, T_);
     times_.contacts += omp_get_wtime() - t0;
   }
   accelerations(sp_, F_, T_, cfg_.uniform_g, contacts_ != nullptr, own_active_.data(), no, a_, alpha_);
@@ -169,8 +171,9 @@ void DomainSim::step_multirate() {
   }
   t0 = omp_get_wtime();
   const std::size_t n2 = sp_.size();  // the exchange may have changed the local set
+  if (blevels_) blevels_->refresh();  // broken bonds leave the rules (on every rank that holds them alike)
   if (contacts_) lr_.update_pair_levels(sp_, *contacts_);
-  lr_.assign(sp_, contacts_.get(), tz, ss.L, nullptr, mine_.data());
+  lr_.assign(sp_, contacts_.get(), tz, ss.L, blevels_.get(), mine_.data());
   if (contacts_) {
     halo_levels(true, tz);
     // rounds to the fixed point: a local equalisation; if it changed the level of a sphere that
@@ -178,7 +181,7 @@ void DomainSim::step_multirate() {
     // round follows; else every rank holds its ghosts' levels and is at its local fixed point.
     // (After an equalisation lflag marks exactly the spheres it lowered: level_rules.hpp.)
     for (;;) {
-      lr_.equalise(sp_, *contacts_, tz, nullptr);
+      lr_.equalise(sp_, *contacts_, tz, blevels_.get());
       ++stats_.level_rounds;
       bool changed = false;
       for (const auto& sr : send_)

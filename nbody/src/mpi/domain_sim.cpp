@@ -21,7 +21,7 @@ namespace {
 constexpr std::size_t kOmpMin = 2048;  // below this many own spheres a loop runs serially
 }
 
-void DomainSim::setup(const Spheres& all) {
+void DomainSim::setup(const Spheres& all, const BondSet& bonds) {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
   if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
   if (cfg_.adaptive_gravity && (!(cfg_.gravity_tolerance > 0.0) || cfg_.gravity_max_every < 1))
@@ -30,9 +30,6 @@ void DomainSim::setup(const Spheres& all) {
   for (std::size_t i = 0; i < all.size(); ++i)
     if (!(all.m[i] > 0.0) || !(all.s[i] > 0.0))
       throw common::InputError("sphere id " + std::to_string(all.id[i]) + ": mass and radius must be > 0");
-  if (!cfg_.bonds.empty() && comm_.size > 1)
-    throw common::InputError("bonds (bonds.*) are not distributed over MPI ranks yet: run a scene with bonds "
-                             "on one rank (mpirun -np 1) or with the serial ssdem-grav");
   double smax = 0;
   for (double s : all.s) smax = std::max(smax, s);
   smax_ = smax;
@@ -46,6 +43,7 @@ void DomainSim::setup(const Spheres& all) {
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<DistributedTree>(comm_, cfg_.gravity);
   setup_multirate();
+  setup_bonds(bonds, all);  // domain_bonds.cpp
   n_global_ = all.size();
   const std::size_t lo = common::mpi::dense_first(all.size(), comm_.size, comm_.rank),
                     hi = common::mpi::dense_first(all.size(), comm_.size, comm_.rank + 1);
@@ -59,8 +57,10 @@ void DomainSim::setup(const Spheres& all) {
 
 DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance)
     : comm_(comm), cfg_(std::move(cfg)), imbalance_(imbalance) {
-  setup(all);
+  setup(all, cfg_.bonds);
   SimState st;
+  st.bonds = std::move(cfg_.bonds);  // the state's from now on (as Simulation)
+  cfg_.bonds = BondSet{};
   st.sp = all;
   st.sp.carried.clear();
   const std::size_t n = all.size();
@@ -77,10 +77,7 @@ DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbal
 
 DomainSim::DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance)
     : comm_(comm), cfg_(std::move(cfg)), imbalance_(imbalance) {
-  if (!all.bonds.empty() && comm_.size > 1)
-    throw common::InputError("restart: the checkpoint holds bonds, which are not distributed over MPI ranks "
-                             "yet: restart it on one rank");
-  setup(all.sp);
+  setup(all.sp, all.bonds);
   const std::size_t n = all.sp.size();
   if (all.a.size() != n || all.alpha.size() != n || (cfg_.self_gravity && all.ag.size() != n))
     throw common::InputError("restart state: acceleration arrays do not match the sphere count");
@@ -173,6 +170,8 @@ void DomainSim::compute_forces(bool initial) {
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
+    // bonds: in bond order after the contacts, with the half-step velocities (as Simulation)
+    if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
     times_.neighbours += t1 - t0;
     times_.contacts += omp_get_wtime() - t1;
   }
@@ -311,6 +310,8 @@ double DomainSim::bytes_per_owned_sphere() const {
   const double nl = static_cast<double>(sp_.size());
   double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
   if (cfg_.multirate) b += nl * (4 + 8 + 3 * 8 + 4);  // levels/flags, opening step, h_open, tau_prev, tau, active
+  if (bonds_) b += bonds_->bytes_per_sphere(1) + static_cast<double>(bg_.size()) * 9;  // bonds, rows, owner flags
+  b += static_cast<double>(retired_.size()) * (153.0 + 24.0);
   if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
   b += static_cast<double>(pot_.capacity()) * 8;    // potentials (rows)
   if (tree_) b += tree_->bytes();

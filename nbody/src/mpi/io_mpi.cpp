@@ -3,8 +3,10 @@
 #include "ssdem/mpi/io_mpi.hpp"
 
 #include <cstring>
+#include <type_traits>
 
 #include "common/agreed.hpp"
+#include "common/exact_sum_mpi.hpp"
 #include "common/finite.hpp"
 #include "common/h5_parallel.hpp"
 #include "common/sphere_file_mpi.hpp"
@@ -28,11 +30,30 @@ std::vector<Vec3> move3(const common::mpi::SortedRows& plan, const std::vector<V
   for (std::size_t i = 0; i < out.size(); ++i) out[i] = Vec3(m[3 * i], m[3 * i + 1], m[3 * i + 2]);
   return out;
 }
+
+// Each array of the rank's bonds moved to its block of the bond rows (dense blocks).
+BondSet move_bonds(const common::mpi::SortedRows& plan, const BondSet& b) {
+  BondSet out;
+  BondSet::zip_arrays([&](auto& to, const auto& from) {
+    using T = typename std::decay_t<decltype(to)>::value_type;
+    if constexpr (std::is_same_v<T, Vec3>)
+      to = move3(plan, from);
+    else
+      to = plan.move(from, 1);
+  }, out, b);
+  out.released_base = b.released_base;
+  return out;
+}
 }  // namespace
 
 void write_snapshot_mpi(Comm& comm, const std::string& path, const DomainSim& sim, const DomainSim::Local& mine,
                         const common::Provenance& prov) {
-  common::mpi::write_sphere_set_mpi(comm, path, own_set(mine), mine.row, sim.carried_block(), prov);
+  if (sim.global_bonds() == 0) {
+    common::mpi::write_sphere_set_mpi(comm, path, own_set(mine), mine.row, sim.carried_block(), prov);
+    return;
+  }
+  const common::mpi::BondRows bonds{to_bond_table(mine.st.bonds), mine.brow, mine.bsph};
+  common::mpi::write_sphere_set_mpi(comm, path, own_set(mine), mine.row, sim.carried_block(), prov, &bonds);
 }
 
 void write_checkpoint_mpi(Comm& comm, const std::string& path, const DomainSim& sim, const DomainSim::Local& mine,
@@ -66,12 +87,26 @@ void write_checkpoint_mpi(Comm& comm, const std::string& path, const DomainSim& 
   blk.history.resize(hb.size() / sizeof(HistoryRecord));
   if (!hb.empty()) std::memcpy(static_cast<void*>(blk.history.data()), hb.data(), hb.size());
 
+  // bonds by their rows (the one-rank order); the released total exact over the ranks
+  std::vector<cm::RowKey> bkey;
+  for (std::uint64_t g : mine.brow) bkey.push_back(cm::RowKey{0, g});
+  long long nb = static_cast<long long>(bkey.size());
+  comm.sum(&nb, 1);
+  const cm::SortedRows bplan(comm, bkey, cm::dense_splitters(static_cast<std::size_t>(nb), comm.size));
+  blk.bonds = move_bonds(bplan, st.bonds);
+  common::ExactSum released;
+  for (double e : blk.bonds.released) released.add(e);
+  if (comm.rank == 0) released.add(st.bonds.released_base);
+  cm::allreduce(comm, released);
+
   const std::uintmax_t state_bytes = b.plan.total() * (5 * 24 + 12) +
-                                     hplan.total() * (16 + kHistVec * 24 + kHistScal * 8) + (std::uintmax_t{1} << 16);
+                                     hplan.total() * (16 + kHistVec * 24 + kHistScal * 8) +
+                                     bplan.total() * 160 + (std::uintmax_t{1} << 16);
   cm::ParallelFile file(comm, path, cm::sphere_file_bytes(b.set, b.plan.total()) + state_bytes);
   bool ok = common::write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
   ok = write_state_group(file.id(), blk, h, file.rows(b.plan.offset(), b.plan.total()),
-                         file.rows(hplan.offset(), hplan.total())) &&
+                         file.rows(hplan.offset(), hplan.total()), file.rows(bplan.offset(), bplan.total()),
+                         released.value()) &&
        ok;
   file.commit(ok);
   cm::agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike

@@ -60,8 +60,9 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   std::string info;
   double energy0 = NAN;  // the run's initial accounted energy (a restart: the checkpoint's)
   if (restart.empty()) {
-    Spheres sp = initial_spheres(sc);
-    const SimConfig cfg = sim_config(sc, sp, &info);
+    BondSet file_bonds;
+    Spheres sp = initial_spheres(sc, &file_bonds);
+    const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
     sim = std::make_unique<DomainSim>(comm, sp, cfg);
   } else {
     double dt0 = 0, kn0 = 0;
@@ -85,7 +86,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         if (s >= 0 && s <= st.step) rd->carry(n);
       }
     });
-    SimConfig cfg = sim_config(sc, st.sp, &info);
+    SimConfig cfg = sim_config(sc, st.sp, &info, &st.bonds, restart);
     if (cfg.contacts && kn0 > 0.0) cfg.contact.kn = kn0;  // the checkpoint's values: the continuation is exact
     cfg.dt = dt0;
     if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
@@ -114,7 +115,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
 
   std::unique_ptr<common::SeriesFile> series;
   on_root(comm, [&] {
-    series = std::make_unique<common::SeriesFile>(series_path, detail::series_format(),
+    series = std::make_unique<common::SeriesFile>(series_path, detail::series_format(sim->global_bonds() > 0),
                                                   restart.empty() ? std::nullopt : std::optional(sim->step_count()));
   });
   std::unique_ptr<common::SeriesFile> levels;  // levels.csv of multi-rate runs, as the serial driver's
@@ -147,7 +148,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       }
       if (row) {
         common::SeriesRow r = series->row();
-        detail::series_row(r, step, time, d, E0, progress.elapsed(), false);
+        detail::series_row(r, step, time, d, E0, progress.elapsed(), sim->global_bonds() > 0);
         series->write(r);
         last_rel = detail::relative_energy_error(d, E0);
         progress.update(step, time, cfg.dt, last_rel);
@@ -253,6 +254,10 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
        << ", locally essential trees " << g.t_let / ne << ", walk " << g.t_walk / ne;
   }
   std::string lines;
+  if (sim->global_bonds() > 0) {  // as the serial driver's last line (collective: the ranks' exact sums)
+    const Diagnostics bd = sim->diagnostics();
+    lines += detail::bond_report(bd.bonds, bd.bonds_broken, bd.bond_elastic, bd.bond_released) + "\n";
+  }
   const LevelStats ls = sim->gather_level_stats();
   if (cfg.multirate)
     lines += detail::levels_report(ls, sim->step_count() - first_step, sim->global_count()) + "\n";

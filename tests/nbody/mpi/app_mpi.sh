@@ -2,8 +2,9 @@
 # The MPI ssdem-grav end to end (label mpi): files written on NP ranks equal those of one rank
 # (every dataset of every snapshot and of the checkpoint; series.csv except wall time), a
 # checkpoint written on NP ranks restarts on NP2 ranks and reaches the one-rank end state bit for
-# bit, and a scene with bonds is refused on more than one rank (exit 2). APP_MPI_SETS adds scene
-# settings to every run (e.g. "--set time.multirate=true": then levels.csv must equal one rank's).
+# bit. APP_MPI_SETS adds scene settings to every run (e.g. "--set time.multirate=true": then
+# levels.csv must equal one rank's; with bonds.generate = true the snapshots' /bonds, the
+# checkpoint's bond state and the four bond columns of series.csv must equal one rank's too).
 # Usage: app_mpi.sh <ssdem-grav> <scene> <NP> <NP2> <mpirun...>
 set -euo pipefail
 exe=$1 scene=$2 np=$3 np2=$4
@@ -23,11 +24,35 @@ for f in "$w"/one/*.h5; do
   n=$((n + 1))
 done
 [ "$n" -ge 3 ] || fail "expected snapshots and a checkpoint, found $n files"
-cmp <(cut -d, -f1-19 "$w/one/series.csv") <(cut -d, -f1-19 "$w/many/series.csv") || fail "series.csv differs on $np ranks"
+# every column but the wall time (column 20)
+cmp <(cut -d, -f1-19,21- "$w/one/series.csv") <(cut -d, -f1-19,21- "$w/many/series.csv") ||
+  fail "series.csv differs on $np ranks"
 grep -q "MPI ranks: $np" "$w/many/run_info.txt" || fail "run_info.txt lacks the rank count"
 if [ -f "$w/one/levels.csv" ]; then  # multi-rate: spheres per level, promotions, evaluations
   cmp "$w/one/levels.csv" "$w/many/levels.csv" || fail "levels.csv differs on $np ranks"
   grep -q "multi-rate levels" "$w/many/run_info.txt" || fail "run_info.txt lacks the level report"
+fi
+if grep -q "bonds.generate=true" <<<"${APP_MPI_SETS:-}"; then  # bonds: some break, and the last line
+  h5ls "$w/many/checkpoint.h5/ssdem_state/bonds" | grep -q released || fail "checkpoint lacks the bond state"
+  broken=$(tail -1 "$w/many/series.csv" | awk -F, '{print $NF}')
+  [ "$broken" -gt 0 ] || fail "no bond broke: the test needs broken bonds"
+  grep "^bonds:" "$w/one/run_info.txt" | cmp - <(grep "^bonds:" "$w/many/run_info.txt") ||
+    fail "run_info.txt's bond line differs on $np ranks"
+  echo "$np ranks with bonds: $broken bonds broken at the end, as on one rank"
+  # the bonds of an input file (bonds.from_file; a snapshot's /bonds with its broken flags)
+  first=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
+  fsets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0 --set initial.source=\"file\"
+    --set "initial.file=\"$first\"")
+  "${run[@]}" -np 1 "$exe" "${fsets[@]}" --set "output.directory=\"$w/file1\""
+  "${run[@]}" -np "$np" "$exe" "${fsets[@]}" --set "output.directory=\"$w/filen\""
+  grep -q "bonds from" "$w/filen/run_info.txt" || fail "the input file's bonds were not used on $np ranks"
+  for f in "$w"/file1/*.h5; do
+    h5diff --exclude-path /provenance "$f" "$w/filen/$(basename "$f")" >/dev/null ||
+      fail "$(basename "$f") differs on $np ranks (bonds from the input file)"
+  done
+  cmp <(cut -d, -f1-19,21- "$w/file1/series.csv") <(cut -d, -f1-19,21- "$w/filen/series.csv") ||
+    fail "series.csv differs on $np ranks (bonds from the input file)"
+  echo "$np ranks with the bonds of $(basename "$first"): files equal to one rank"
 fi
 echo "$np ranks: $n HDF5 files and series.csv equal to one rank${APP_MPI_SETS:+ ($APP_MPI_SETS)}"
 # checkpoint on NP ranks at t = 50 s, restart on NP2 ranks to 100 s: equal to the one-rank run
@@ -39,12 +64,3 @@ h5diff --exclude-path /provenance "$w/one/$last" "$w/first/$last" >/dev/null || 
 h5diff --exclude-path /provenance "$w/one/checkpoint.h5" "$w/first/checkpoint.h5" >/dev/null ||
   fail "checkpoint after restart $np -> $np2 differs"
 echo "restart $np -> $np2 ranks: $last and checkpoint equal to one rank"
-# bonds are not distributed yet: refused with exit 2 and a message naming them
-set +e
-msg=$("${run[@]}" -np "$np" "$exe" "${common[@]}" --set time.end=1.0 --set bonds.generate=true \
-  --set bonds.kn=1e9 --set bonds.ks=1e9 --set "output.directory=\"$w/bonds\"" 2>&1)
-rc=$?
-set -e
-[ "$rc" -eq 2 ] || fail "bonds on $np ranks: exit $rc, expected 2"
-grep -q "bonds" <<<"$msg" || fail "bonds refusal message: $msg"
-echo "bonds on $np ranks refused (exit 2)"

@@ -37,11 +37,28 @@ struct SphereBlock {
 /// allowance for HDF5's metadata).
 std::uintmax_t sphere_file_bytes(const SphereSet& s, std::size_t total);
 
-/// Collective: write the sphere file `path` (see SphereBlock for the arguments). IoError on
-/// every rank if it cannot be written (an earlier file is left as it was); the ranks' sphere sets
-/// must hold no bonds (std::logic_error). Rank 0 writes the XDMF sidecar.
+/// A rank's part of a sphere file's bonds (/bonds, common/bond_file.hpp): each bond on exactly one
+/// rank, with its file row and the rows of its two spheres.
+struct BondRows {
+  BondTable table;                   ///< the rank's bonds, with their broken column
+  std::vector<std::uint64_t> row;    ///< file row of each (0..B-1 over all the ranks)
+  std::vector<std::uint64_t> index;  ///< 2 per bond: the file rows of its spheres id_a, id_b
+};
+
+/// This rank's bonds moved to its block of /bonds (collective; dense blocks of the B rows).
+struct BondBlock {
+  std::size_t offset = 0, total = 0;
+  BondTable table;
+  std::vector<std::uint64_t> index;
+  BondBlock(Comm& comm, const BondRows& local);
+};
+
+/// Collective: write the sphere file `path` (see SphereBlock for the arguments) with the bonds
+/// `bonds` if given (on every rank alike). IoError on every rank if it cannot be written (an
+/// earlier file is left as it was); the ranks' sphere sets must hold no bonds themselves
+/// (std::logic_error). Rank 0 writes the XDMF sidecar.
 void write_sphere_set_mpi(Comm& comm, const std::string& path, const SphereSet& local,
                           const std::vector<std::uint64_t>& row, const std::vector<Field>& block_fields,
-                          const Provenance& prov);
+                          const Provenance& prov, const BondRows* bonds = nullptr);
 
 }  // namespace common::mpi

@@ -56,7 +56,18 @@
 /// trajectories, equal the one-rank run bit for bit. The owned active spheres predict and are
 /// sent (v, w, predicted v, w: halo_synced; every ghost's state after a rebuild of the local set)
 /// before the contacts of all locally active spheres are computed.
-/// Bonds are not distributed yet: a scene with bonds on more than one rank is refused.
+/// Bonds (bonds.hpp; domain_bonds.cpp). A rank holds every intact bond with an own end, in bond
+/// order (the one-rank order restricted), and evaluates it from the same inputs as the rank that
+/// holds its other end, so that a bond across two ranks is evaluated on both, identically (its
+/// shear force, moments and breakage too), and each own sphere receives the one-rank force, sums
+/// in the one-rank order. A bond belongs to the rank owning its sphere id_a (the diagnostics,
+/// files and routing count it there); at an exchange the owner sends it to the new owners of both
+/// ends (a broken bond to that of id_a only, which keeps it for the files). The ghosts reach at
+/// least the longest intact bond (allreduced at each exchange), so both ends of every bond a rank
+/// holds are in its local set until the next exchange (bonds are never created during a run).
+/// Multi-rate steps: every rank runs the bond terms of the level rules (BondLevels) over the bonds
+/// it holds, so the equalisation rounds above reach the one-rank fixed point with bonds too, and
+/// both ends of a bond are synchronised together on every rank that holds it.
 #pragma once
 #include <memory>
 #include <optional>
@@ -145,6 +156,9 @@ class DomainSim {
     /// per history record its file order key (history_key), taken when the state was packed
     std::vector<std::pair<std::uint64_t, std::uint64_t>> hkey;
     bool has_prev = false;  ///< the state has a_prev, alpha_prev (every rank alike, even one with no spheres)
+    /// the bonds this rank owns (id_a own), their rows in the one-rank bond order (file rows), and
+    /// their spheres' rows (2 per bond); st.bonds.released_base is the run's on every rank
+    std::vector<std::uint64_t> brow, bsph;
   };
   Local local_state() const;
   /// The part of the last kept state (set_keep_last_good); nullopt where none was kept (on every
@@ -164,6 +178,12 @@ class DomainSim {
   /// Bytes per sphere held by this rank (local set, contact system, gravity tree), divided by the
   /// spheres it owns.
   double bytes_per_owned_sphere() const;
+  /// Bonds of the whole run (intact and broken; the same on every rank).
+  std::size_t global_bonds() const { return nb_global_; }
+  /// Bonds this rank evaluates (an own end; a bond across two ranks is counted on both).
+  std::size_t local_bonds() const { return bonds_ ? bonds_->bonds().size() : 0; }
+  /// Collective: intact bonds whose ends are owned by different ranks (summed over the ranks).
+  std::size_t cross_rank_bonds() const;
 
  private:
   /// Owned spheres with their integrator state, in any order (between migration and rebuild).
@@ -175,7 +195,7 @@ class DomainSim {
     std::vector<std::int64_t> topen;
     std::vector<double> hopen, tau_prev;
   };
-  void setup(const Spheres& all);
+  void setup(const Spheres& all, const BondSet& bonds);
   void distribute(const SimState& all);
   void exchange();
   void rebuild_local(Owned own, const std::vector<HistoryRecord>& recs);
@@ -215,7 +235,7 @@ class DomainSim {
   void pack_owned(std::size_t i, std::vector<char>& b) const;
   /// This rank's part of the state: packed own spheres and owned history, with the scalars.
   struct Packed {
-    std::vector<char> spheres, history;
+    std::vector<char> spheres, history, bonds;
     std::int64_t step = 0, grav_step = -1;
     double time = 0.0;
     int block = 1;
@@ -225,7 +245,33 @@ class DomainSim {
   SimState assemble(const Packed& mine) const;  ///< collective: the full state on rank 0
   /// pack_owned records (of one or more ranks, concatenated) and (key, history record) triples -> arrays in
   /// arrival order, with the scalars of `scalars`.
-  Local unpack(const std::vector<char>& spheres, const std::vector<char>& history, const Packed& scalars) const;
+  Local unpack(const std::vector<char>& spheres, const std::vector<char>& history, const std::vector<char>& bonds,
+               const Packed& scalars) const;
+  // bonds (domain_bonds.cpp)
+  void setup_bonds(const BondSet& all, const Spheres& sp);
+  /// The bonds of the full state `all` that this rank holds under the ORB `orb_` (into bonds_in_),
+  /// and the longest intact bond (bond_reach_).
+  void pick_bonds(const SimState& all);
+  /// Collective: the longest intact bond now (bond_reach_), then the bond records this rank owns
+  /// routed to the ranks `dest` of their ends (dest: the new owner of each local slot).
+  std::vector<std::vector<char>> route_bonds(const std::vector<int>& dest);
+  /// After the local set is rebuilt: bonds_ from the records in bonds_in_ (any order; consumed).
+  void place_bonds();
+  /// The records of the bonds this rank owns (for Packed), and their inverse into `L`.
+  void pack_bonds(std::vector<char>& b) const;
+  void unpack_bonds(const std::vector<char>& b, Local& L) const;
+  /// Collective: the bond terms of a series row (Diagnostics::bond_*) into d and the elastic sum.
+  void bond_diagnostics(Diagnostics& d, common::ExactSum& elastic) const;
+  std::unique_ptr<BondSystem> bonds_;  ///< intact bonds with an own end at the last exchange
+  std::unique_ptr<BondLevels> blevels_;  ///< multi-rate: their terms in the level rules
+  std::vector<std::uint64_t> bg_;      ///< bond row (one-rank order) of each bond of bonds_
+  std::vector<std::uint8_t> bown_;     ///< 1 where this rank owns bond k of bonds_ (id_a own)
+  BondSet retired_;                    ///< broken bonds this rank owns (not evaluated any more)
+  std::vector<std::uint64_t> retired_g_, retired_sph_;  ///< their rows; their spheres' rows (2 each)
+  std::vector<char> bonds_in_;         ///< bond records waiting for the rebuild of the local set
+  std::size_t nb_global_ = 0;
+  double bond_base_ = 0.0;   ///< BondSet::released_base of the run's bonds
+  double bond_reach_ = 0.0;  ///< longest intact bond at the last exchange [m]
   std::int64_t keep_every_ = 0;
   std::optional<Packed> last_good_;
   void unpack_multirate(const std::vector<char>& b, std::size_t& off, Owned& own) const;
