@@ -50,11 +50,12 @@ void write_bonds(hid_t file, const BondTable& b, const std::vector<std::uint64_t
     index[2 * k] = a->second;
     index[2 * k + 1] = c->second;
   }
-  if (!write_bond_rows(file, b, index, h5::RowBlock{0, B, H5P_DEFAULT}))
+  if (!write_bond_rows(file, b, index, h5::RowBlock{0, B, H5P_DEFAULT}, !b.broken.empty()))
     throw IoError("HDF5: writing /bonds failed (disk full or file not writable?)");
 }
 
-bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& index, const h5::RowBlock& rows) {
+bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& index, const h5::RowBlock& rows,
+                     bool broken) {
   const std::size_t B = b.size();
   h5::Handle g = h5::create_group(file, "bonds");
   h5::write_attr(g, "description",
@@ -66,7 +67,7 @@ bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint
   BondTable::zip_columns([&](const BondColumn& c, const std::vector<double>& v) {
     ok = h5::write_dataset_rows(g, c.name, v.data(), B, 1, c.unit, rows) && ok;
   }, b);
-  if (!b.broken.empty()) ok = h5::write_dataset_rows(g, "broken", b.broken.data(), B, 1, "1", rows) && ok;
+  if (broken) ok = h5::write_dataset_rows(g, "broken", b.broken.data(), B, 1, "1", rows) && ok;
   return ok;
 }
 

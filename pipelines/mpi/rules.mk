@@ -85,6 +85,16 @@ nbody-mpi-gravity-bench: build-mpi ## ssdem-grav's gravity on 2-3 ranks: memory,
 	$(ROOT)/pipelines/mpi/nbody_gravity_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_GRAVITY_OLD) \
 	  $(RUNS)/nbody-mpi-gravity $(MPI_SCALING_REPS) $(MPIRUN)
 
+# Bonds on MPI ranks (issue 19): a bonded two-body collision, the serial binary of this build
+# against NBODY_BONDS_OLD (a serial ssdem-grav of another commit) and this MPI build on 1 x 2 and
+# 2 x 1; walls, the bonds' traffic and the final checkpoints' identity; runs/nbody-mpi-bonds/bonds.md.
+.PHONY: nbody-mpi-bonds-bench
+nbody-mpi-bonds-bench: build-mpi ## bonds on 2 ranks vs 1 rank x 2 threads, serial path vs NBODY_BONDS_OLD
+	@test -n "$(NBODY_BONDS_OLD)" || { echo "set NBODY_BONDS_OLD=<a serial ssdem-grav of another commit>"; exit 2; }
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
+	$(ROOT)/pipelines/mpi/nbody_bonds_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(BUILD)/nbody/ssdem-grav \
+	  $(NBODY_BONDS_OLD) $(RUNS)/nbody-mpi-bonds $(MPI_SCALING_REPS) $(MPIRUN)
+
 # Cost of ssdem-grav's series rows, serial and on 2 ranks (issues 15, 19), this build against
 # NBODY_ROWS_OLD / NBODY_ROWS_OLD_MPI (default: this build itself); runs/nbody-rows/rows.md.
 .PHONY: nbody-rows-bench

@@ -72,9 +72,11 @@ struct BondTable {
 /// bond names an id that is not there or the columns have different lengths.
 void write_bonds(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& sphere_ids);
 /// Write `/bonds` into an open file, this process's rows `rows` of it: b holds those rows, `index`
-/// their sphere rows (2 per bond: the rows of id_a and id_b in /spheres). Every process calls it
+/// their sphere rows (2 per bond: the rows of id_a and id_b in /spheres), with the broken column
+/// if `broken` (the same on every process: a process may hold no row). Every process calls it
 /// (the MPI writer, common/mpi/sphere_file_mpi.hpp). False if a data write failed.
-bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& index, const h5::RowBlock& rows);
+bool write_bond_rows(hid_t file, const BondTable& b, const std::vector<std::uint64_t>& index, const h5::RowBlock& rows,
+                     bool broken);
 /// Read and validate `/bonds` if the file has it (else an empty table): every column present
 /// with B rows, values finite and in range, ids in `sphere_ids`, a != b, no pair twice,
 /// sphere_index agreeing with the ids, broken 0 or 1. InputError naming `path`, the dataset, the

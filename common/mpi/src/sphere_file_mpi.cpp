@@ -102,7 +102,8 @@ void write_sphere_set_mpi(Comm& comm, const std::string& path, const SphereSet& 
   const std::size_t nb = bb ? bb->total : 0;
   ParallelFile file(comm, path, sphere_file_bytes(b.set, b.plan.total()) + nb * 96);
   bool ok = write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
-  if (nb > 0) ok = write_bond_rows(file.id(), bb->table, bb->index, file.rows(bb->offset, nb)) && ok;
+  // the broken column on every rank (BondRows carries it), whether or not its block is empty
+  if (nb > 0) ok = write_bond_rows(file.id(), bb->table, bb->index, file.rows(bb->offset, nb), true) && ok;
   file.commit(ok);
   agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike
     if (comm.rank == 0) write_sphere_xdmf(path, b.set, b.plan.total(), nb, nb > 0);

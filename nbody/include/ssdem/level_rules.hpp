@@ -136,7 +136,7 @@ class BondSystem;
 /// The bond terms of the level rules (multirate.hpp, "Bonds"; multirate_bonds.cpp) over the bonds
 /// of `b` and the spheres of `lr`: the level l_b of every bond and, per sphere, its intact bonds.
 /// Simulation holds one over all the bonds, an MPI rank (mpi/domain_sim.hpp) one over the bonds
-/// of its local set. Both references must outlive it.
+/// it holds (those with an own end). Both references must outlive it.
 class BondLevels final : public LevelRules::BondTerms {
  public:
   BondLevels(const BondSystem& b, const Spheres& sp, LevelRules& lr);

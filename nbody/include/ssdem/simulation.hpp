@@ -142,6 +142,8 @@ class Simulation {
   Simulation(Spheres sp, SimConfig cfg);
   /// Restart from a saved state (forces and history taken from the state; nothing recomputed).
   Simulation(SimState st, SimConfig cfg);
+  Simulation(const Simulation&) = delete;  // members refer to each other (BondLevels)
+  Simulation& operator=(const Simulation&) = delete;
 
   /// Advance one step. Throws common::NumericalError on NaN/Inf or runaway overlap; the state
   /// is then the failing one, and last_good() holds the last verified state.

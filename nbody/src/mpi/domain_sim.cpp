@@ -78,6 +78,7 @@ DomainSim::DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbal
 DomainSim::DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance)
     : comm_(comm), cfg_(std::move(cfg)), imbalance_(imbalance) {
   setup(all.sp, all.bonds);
+  cfg_.bonds = BondSet{};  // the state's (all.bonds), as after a fresh start: no copy kept
   const std::size_t n = all.sp.size();
   if (all.a.size() != n || all.alpha.size() != n || (cfg_.self_gravity && all.ag.size() != n))
     throw common::InputError("restart state: acceleration arrays do not match the sphere count");

@@ -134,7 +134,9 @@ TEST(MpiGravityLet, RandomOwnersAndOtherOpeningAnglesEqualOneRankTree) {
     const Outcome o = compare(sp, mine(sp, false), gp);
     EXPECT_EQ(o.checked, sp.size());
     EXPECT_EQ(o.mismatches, 0u) << "theta " << theta;
-    if (comm().size > 1) EXPECT_GT(o.st.moved_spheres, 0.0);
+    if (comm().size > 1) {
+      EXPECT_GT(o.st.moved_spheres, 0.0);
+    }
   }
 }
 
@@ -181,5 +183,7 @@ TEST(MpiGravityLet, NonFinitePositionOnOneRankFailsEveryRank) {
     what = e.what();
   }
   EXPECT_NE(what.find("non-finite position"), std::string::npos) << "rank " << comm().rank << ": '" << what << "'";
-  if (comm().rank == comm().size - 1) EXPECT_NE(what.find("sphere id"), std::string::npos);
+  if (comm().rank == comm().size - 1) {
+    EXPECT_NE(what.find("sphere id"), std::string::npos);
+  }
 }

@@ -10,7 +10,8 @@
 /// summation order, so results do not depend on where a sphere lives.
 /// Ghosts and exchanges (LAMMPS-style halo with a skin). At an exchange each rank takes the spheres
 /// of the other ranks within R = 2 s_max + k of the bounding box of its own spheres as ghosts
-/// (k = the contact skin). Spheres that moved less than t = k/2 (k/4 with multi-rate steps) since
+/// (k = the contact skin; with bonds R is at least the longest intact bond, see "Bonds": the
+/// movers' coverage test below, made with 2 s_max + k, is then conservative). Spheres that moved less than t = k/2 (k/4 with multi-rate steps) since
 /// the exchange cannot form a contact (a near pair) with a sphere that is not a ghost; the few
 /// that moved farther ("movers": fast fragments) are sent to every rank each step and checked
 /// against its own spheres, and an exchange is done only when a near pair with a mover is not
@@ -104,6 +105,8 @@ class DomainSim {
   DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance = 0.1);
   /// Restart: every rank passes the same full state (e.g. read from a checkpoint).
   DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance = 0.1);
+  DomainSim(const DomainSim&) = delete;  // members refer to each other (BondLevels)
+  DomainSim& operator=(const DomainSim&) = delete;
 
   void step();
   /// Collective: decide a failure check still pending (a run that ends inside a gravity block:
@@ -180,7 +183,8 @@ class DomainSim {
   double bytes_per_owned_sphere() const;
   /// Bonds of the whole run (intact and broken; the same on every rank).
   std::size_t global_bonds() const { return nb_global_; }
-  /// Bonds this rank evaluates (an own end; a bond across two ranks is counted on both).
+  /// Bonds this rank held at the last exchange: intact then, with an own end (a bond across two
+  /// ranks is counted on both; those broken since are no longer evaluated).
   std::size_t local_bonds() const { return bonds_ ? bonds_->bonds().size() : 0; }
   /// Collective: intact bonds whose ends are owned by different ranks (summed over the ranks).
   std::size_t cross_rank_bonds() const;
