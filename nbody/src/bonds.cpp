@@ -2,6 +2,8 @@
 /// Parallel bonds: generator, dt check, forces, breakage and energy (equations in bonds.hpp).
 #include "ssdem/bonds.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cmath>
@@ -154,28 +156,114 @@ void BondSystem::refresh_live() {
   live_at_ = breaks_;
 }
 
+bool BondSystem::parallel(std::size_t n) {
+  if (live_.size() < kParallelBonds || omp_get_max_threads() < 2) return false;
+  if (srow_.size() != n + 1) {  // the index of every bond (ia_, ib_ never change)
+    const std::size_t nb = ia_.size();
+    srow_.assign(n + 1, 0);
+    for (std::size_t k = 0; k < nb; ++k) {
+      ++srow_[ia_[k] + 1];
+      ++srow_[ib_[k] + 1];
+    }
+    for (std::size_t i = 0; i < n; ++i) srow_[i + 1] += srow_[i];
+    sadj_.resize(srow_[n]);
+    std::vector<std::uint32_t> fill(srow_.begin(), srow_.end() - 1);
+    for (std::size_t k = 0; k < nb; ++k) {  // ascending k per sphere
+      sadj_[fill[ia_[k]]++] = static_cast<std::uint32_t>(2 * k);
+      sadj_[fill[ib_[k]]++] = static_cast<std::uint32_t>(2 * k + 1);
+    }
+    bf_.assign(nb, Vec3::Zero());
+    bta_.assign(nb, Vec3::Zero());
+    btb_.assign(nb, Vec3::Zero());
+    bon_.assign(nb, 0);
+  }
+  return true;
+}
+
+// Each sphere (where only[i] != 0 if `only`) adds its applied bonds' terms in ascending bond order.
+void BondSystem::gather(std::size_t n, const std::uint8_t* only, std::vector<Vec3>& F, std::vector<Vec3>& T) const {
+#pragma omp parallel for schedule(static)
+  for (std::size_t i = 0; i < n; ++i) {
+    if (only && !only[i]) continue;
+    for (std::uint32_t q = srow_[i]; q < srow_[i + 1]; ++q) {
+      const std::uint32_t k = sadj_[q] >> 1;
+      if (!bon_[k]) continue;
+      if (sadj_[q] & 1u) {
+        F[i] -= bf_[k];
+        T[i] += btb_[k];
+      } else {
+        F[i] += bf_[k];
+        T[i] += bta_[k];
+      }
+    }
+  }
+}
+
 void BondSystem::compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T) {
   refresh_live();  // the intact bonds in ascending order: the same order as a scan of all bonds
-  for (std::uint32_t k : live_)
-    if (!b_.broken[k]) compute_one(k, sp, h, F, T);
+  if (!parallel(sp.size())) {
+    for (std::uint32_t k : live_)
+      if (!b_.broken[k]) compute_one(k, sp, h, F, T);
+    return;
+  }
+  const std::size_t nl = live_.size();
+  std::size_t broke = 0;
+#pragma omp parallel for schedule(static) reduction(+ : broke)
+  for (std::size_t r = 0; r < nl; ++r) {
+    const std::uint32_t k = live_[r];
+    bon_[k] = 0;
+    if (b_.broken[k]) continue;
+    bon_[k] = evaluate(k, sp, h, bf_[k], bta_[k], btb_[k]) ? 1 : 0;
+    broke += bon_[k] ? 0 : 1;
+  }
+  breaks_ += broke;
+  gather(sp.size(), nullptr, F, T);
 }
 
 void BondSystem::compute_synchronised(const Spheres& sp, const std::vector<std::uint8_t>& sync,
                                       const std::vector<std::int64_t>& topen, std::int64_t step, double dt,
                                       std::vector<Vec3>& F, std::vector<Vec3>& T) {
   refresh_live();
-  for (std::uint32_t k : live_) {
+  for (std::uint32_t k : live_) {  // (a cheap check first, so the parallel loop cannot throw)
     if (b_.broken[k]) continue;
     const std::uint32_t a = ia_[k], b = ib_[k];
-    if (!sync[a] && !sync[b]) continue;
-    if (!sync[a] || !sync[b] || topen[a] != topen[b])
+    if ((sync[a] || sync[b]) && (!sync[a] || !sync[b] || topen[a] != topen[b]))
       throw std::logic_error("multi-rate: the two spheres of bond " + std::to_string(k) + " are not synchronised together");
-    compute_one(k, sp, static_cast<double>(step - topen[a]) * dt, F, T);
   }
+  if (!parallel(sp.size())) {
+    for (std::uint32_t k : live_)
+      if (!b_.broken[k] && sync[ia_[k]]) compute_one(k, sp, static_cast<double>(step - topen[ia_[k]]) * dt, F, T);
+    return;
+  }
+  const std::size_t nl = live_.size();
+  std::size_t broke = 0;
+#pragma omp parallel for schedule(static) reduction(+ : broke)
+  for (std::size_t r = 0; r < nl; ++r) {
+    const std::uint32_t k = live_[r], a = ia_[k];
+    bon_[k] = 0;
+    if (b_.broken[k] || !sync[a]) continue;
+    bon_[k] = evaluate(k, sp, static_cast<double>(step - topen[a]) * dt, bf_[k], bta_[k], btb_[k]) ? 1 : 0;
+    broke += bon_[k] ? 0 : 1;
+  }
+  breaks_ += broke;
+  gather(sp.size(), sync.data(), F, T);
 }
 
 void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::vector<Vec3>& F,
                              std::vector<Vec3>& T) {
+  Vec3 f, ta, tb;
+  if (!evaluate(k, sp, h, f, ta, tb)) {
+    ++breaks_;
+    return;
+  }
+  const std::uint32_t a = ia_[k], b = ib_[k];
+  F[a] += f;
+  F[b] -= f;
+  T[a] += ta;
+  T[b] += tb;
+}
+
+bool BondSystem::evaluate(std::size_t k, const Spheres& sp, double h, Vec3& f, Vec3& ta, Vec3& tb) {
   const std::uint32_t a = ia_[k], b = ib_[k];
   const Vec3 rho = sp.x[b] - sp.x[a];
   const double d = rho.norm();
@@ -203,18 +291,16 @@ void BondSystem::compute_one(std::size_t k, const Spheres& sp, double h, std::ve
     b_.released[k] = (b_.kn[k] > 0 ? Fn * Fn / (2.0 * b_.kn[k] * q.A) + Mb.squaredNorm() / (2.0 * b_.kn[k] * q.I) : 0.0) +
                      (b_.ks[k] > 0 ? Fs.squaredNorm() / (2.0 * b_.ks[k] * q.A) + Mt * Mt / (2.0 * b_.ks[k] * q.J) : 0.0);
     b_.broken[k] = 1;
-    ++breaks_;
     b_.Fs[k].setZero();
     b_.Mb[k].setZero();
     b_.Mt[k] = 0.0;
-    return;
+    return false;
   }
-  const Vec3 f = Fn * n + Fs;
+  f = Fn * n + Fs;
   const Vec3 nxF = n.cross(Fs);
-  F[a] += f;
-  F[b] -= f;
-  T[a] += la * nxF + Mt * n + Mb;
-  T[b] += lb * nxF - Mt * n - Mb;
+  ta = la * nxF + Mt * n + Mb;
+  tb = lb * nxF - Mt * n - Mb;
+  return true;
 }
 
 common::ExactSum BondSystem::elastic_sum(const Spheres& sp, const std::vector<std::uint8_t>* keep) const {
@@ -241,8 +327,11 @@ double BondSystem::mode_time(std::size_t k, const Spheres& sp) const {
 
 double BondSystem::bytes_per_sphere(std::size_t n) const {
   if (n == 0) return 0.0;
-  // ids 16, kn ks sc tc radius L0 48, broken 1, Fs Mb n_old 72, Mt 8, indices 8
-  return static_cast<double>(b_.size()) * 153.0 / static_cast<double>(n);
+  // ids 16, kn ks sc tc radius L0 48, broken 1, Fs Mb n_old 72, Mt 8, released 8, indices 8; the
+  // parallel path's per-bond terms and flag 73 and index 8 per bond plus 4 per sphere
+  double b = static_cast<double>(b_.size()) * 161.0;
+  if (!srow_.empty()) b += static_cast<double>(b_.size()) * 81.0 + 4.0 * static_cast<double>(srow_.size());
+  return b / static_cast<double>(n);
 }
 
 }  // namespace ssdem

@@ -14,21 +14,12 @@
 #include "common/run_identity.hpp"
 #include "common/status.hpp"
 #include "io_bonds.hpp"
+#include "vec3_rows.hpp"
 
 namespace ssdem {
 namespace {
-std::vector<double> flat(const std::vector<Vec3>& v) {
-  std::vector<double> out(3 * v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int k = 0; k < 3; ++k) out[3 * i + k] = v[i][k];
-  return out;
-}
-std::vector<Vec3> unflat(const std::vector<double>& f) {
-  std::vector<Vec3> v(f.size() / 3);
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
-  return v;
-}
-std::vector<double> flat(const std::vector<double>& v) { return v; }
+using io_rows::flat;
+using io_rows::unflat;
 
 // Copy one array between the in-memory form (Vec3 rows) and the file form (flat values).
 template <class From, class To>

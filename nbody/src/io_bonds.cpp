@@ -5,20 +5,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "vec3_rows.hpp"
+
 namespace ssdem {
-namespace {
-std::vector<double> flat(const std::vector<Vec3>& v) {
-  std::vector<double> f(3 * v.size());
-  for (std::size_t i = 0; i < v.size(); ++i)
-    for (int c = 0; c < 3; ++c) f[3 * i + c] = v[i][c];
-  return f;
-}
-std::vector<Vec3> unflat(const std::vector<double>& f) {
-  std::vector<Vec3> v(f.size() / 3);
-  for (std::size_t i = 0; i < v.size(); ++i) v[i] = Vec3(f[3 * i], f[3 * i + 1], f[3 * i + 2]);
-  return v;
-}
-}  // namespace
+using io_rows::flat;
+using io_rows::unflat;
 
 bool write_bond_state(hid_t state, const BondSet& b, const common::h5::RowBlock& rows, double released) {
   namespace h5 = common::h5;

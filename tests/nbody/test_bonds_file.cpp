@@ -203,7 +203,7 @@ TEST(BondsFromFile, DtRuleResolvesStiffFileBonds) {
 
 // No bonds, no cost: a file without /bonds and a file with bonds read with bonds.from_file =
 // false build no bond system and the same bytes per sphere; with the bond, the difference is
-// the bond arrays (153 B per bond) and nothing else.
+// the bond arrays (161 B per bond) and nothing else.
 TEST(BondsFromFile, NoBondsNoArraysNoCost) {
   const std::string d = tmpdir("cost");
   common::write_sphere_set(d + "/with.h5", pair_with_bond(true), {"t", "0", "x", "t", ""});
@@ -226,7 +226,7 @@ TEST(BondsFromFile, NoBondsNoArraysNoCost) {
   EXPECT_EQ(off->bond_system(), nullptr);
   ASSERT_NE(on->bond_system(), nullptr);
   EXPECT_EQ(none->bytes_per_sphere(), off->bytes_per_sphere());
-  EXPECT_DOUBLE_EQ(on->bytes_per_sphere() - none->bytes_per_sphere(), 153.0 / 2.0);
+  EXPECT_DOUBLE_EQ(on->bytes_per_sphere() - none->bytes_per_sphere(), 161.0 / 2.0);
   fs::remove_all(d);
 }
 

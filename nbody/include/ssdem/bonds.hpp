@@ -97,8 +97,9 @@ class BondSystem {
  public:
   /// Resolve the ids of `b` against the spheres (InputError naming the id if one is unknown).
   BondSystem(BondSet b, const Spheres& sp);
-  /// Add the bond forces and torques to F and T (serial, in bond order: deterministic);
-  /// break the bonds whose stress exceeds their strength. h: step; sp.v / sp.w half-step.
+  /// Add the bond forces and torques to F and T (each sphere's terms in bond order, whatever the
+  /// thread count: deterministic); break the bonds whose stress exceeds their strength. h: step;
+  /// sp.v / sp.w half-step.
   void compute(const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T);
   /// Multi-rate steps (multirate.hpp): the same for the bonds whose two spheres are both
   /// synchronised (sync[i] != 0), each with the step of its spheres, (step - topen[a]) dt; in bond
@@ -132,7 +133,20 @@ class BondSystem {
   std::vector<std::uint32_t> live_;  ///< intact bonds, ascending (rebuilt after a break)
   std::size_t breaks_ = 0, live_at_ = SIZE_MAX;  ///< breaks so far; breaks_ when live_ was built
   void refresh_live();
+  /// Bond k's increments over h and its breakage; its force on a and torques on a and b (the
+  /// force on b is -f). False if the bond broke now (nothing to apply).
+  bool evaluate(std::size_t k, const Spheres& sp, double h, Vec3& f, Vec3& ta, Vec3& tb);
   void compute_one(std::size_t k, const Spheres& sp, double h, std::vector<Vec3>& F, std::vector<Vec3>& T);
+  // Parallel evaluation (at least kParallelBonds intact bonds and more than one thread): every
+  // bond evaluated on its own into bf_/bta_/btb_ (bon_: applied), then each sphere adds its
+  // bonds' terms in ascending bond order from the index srow_/sadj_ (2 k + 1 for end b): the
+  // additions of the serial loop, in its order, so the bits do not depend on the thread count.
+  static constexpr std::size_t kParallelBonds = 2048;
+  std::vector<Vec3> bf_, bta_, btb_;
+  std::vector<std::uint8_t> bon_;
+  std::vector<std::uint32_t> srow_, sadj_;
+  bool parallel(std::size_t n);  ///< take the parallel path (and size its arrays for n spheres)
+  void gather(std::size_t n, const std::uint8_t* only, std::vector<Vec3>& F, std::vector<Vec3>& T) const;
 };
 
 }  // namespace ssdem

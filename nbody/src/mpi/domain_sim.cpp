@@ -312,7 +312,8 @@ double DomainSim::bytes_per_owned_sphere() const {
   double b = nl * (Spheres::bytes_per_sphere() + 8 + 1 + 12 * 24);  // local set, gidx, flags, state arrays
   if (cfg_.multirate) b += nl * (4 + 8 + 3 * 8 + 4);  // levels/flags, opening step, h_open, tau_prev, tau, active
   if (bonds_) b += bonds_->bytes_per_sphere(1) + static_cast<double>(bg_.size()) * 9;  // bonds, rows, owner flags
-  b += static_cast<double>(retired_.size()) * (153.0 + 24.0);
+  b += static_cast<double>(retired_.size()) * (161.0 + 24.0);
+  if (blevels_) b += blevels_->bytes();
   if (contacts_) b += nl * contacts_->bytes_per_sphere(sp_.size());
   b += static_cast<double>(pot_.capacity()) * 8;    // potentials (rows)
   if (tree_) b += tree_->bytes();

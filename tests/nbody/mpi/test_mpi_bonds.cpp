@@ -22,18 +22,12 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/simulation.hpp"
 
+#include "mpi_world.hpp"
+
 using namespace ssdem;
 
 namespace {
-[[maybe_unused]] const bool kOneThread = [] {
-  omp_set_num_threads(1);
-  return true;
-}();
-
-mpi::Comm& world() {
-  static mpi::Comm c(MPI_COMM_WORLD);
-  return c;
-}
+using ssdem_test::world;
 
 constexpr double kS = 0.5, kRho = 2000.0;
 

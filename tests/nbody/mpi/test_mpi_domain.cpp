@@ -28,19 +28,12 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/simulation.hpp"
 
+#include "mpi_world.hpp"
+
 using namespace ssdem;
 
 namespace {
-// the one-rank references sum in index order: one OpenMP thread unless a test asks for more
-[[maybe_unused]] const bool kOneThread = [] {
-  omp_set_num_threads(1);
-  return true;
-}();
-
-mpi::Comm& world() {
-  static mpi::Comm c(MPI_COMM_WORLD);
-  return c;
-}
+using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres with random velocities (0.3 v_esc) and spins.
 Spheres pile(double R = 0.75, std::uint64_t first_id = 0) {

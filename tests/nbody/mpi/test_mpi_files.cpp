@@ -25,13 +25,12 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/mpi/io_mpi.hpp"
 
+#include "mpi_world.hpp"
+
 using namespace ssdem;
 
 namespace {
-mpi::Comm& world() {
-  static mpi::Comm c(MPI_COMM_WORLD);
-  return c;
-}
+using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres, random velocities and spins, a carried damage field.
 Spheres pile() {
@@ -76,6 +75,19 @@ std::string shared_dir() {
 }
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+// h5diff of the serial writers' snapshot and checkpoint (<dir>/{snap,ck}_ser.h5) against the
+// collective ones (_par.h5); rank 0.
+bool serial_equals_parallel(const std::string& dir) {
+  bool all = true;
+  for (const std::string f : {"snap", "ck"}) {
+    const std::string cmd = "h5diff " + dir + "/" + f + "_ser.h5 " + dir + "/" + f + "_par.h5";
+    const bool eq = std::system(cmd.c_str()) == 0;
+    EXPECT_TRUE(eq) << cmd;
+    all = all && eq;
+  }
+  return all;
+}
 
 void run_to_boundary(mpi::DomainSim& d, Simulation* s, int steps) {
   for (int k = 0; k < steps || !d.at_gravity_boundary(); ++k) {
@@ -126,13 +138,7 @@ TEST(MpiFiles, RowsSnapshotAndCheckpointEqualOneRanksWithCarriedFields) {
     st.energy0 = 12.5;
     write_snapshot(dir + "/snap_ser.h5", st.sp, st.time, st.step, prov());
     write_checkpoint(dir + "/ck_ser.h5", st, cfg.dt, st.gravity_block, prov(), cfg.contact.kn);
-    for (const std::string f : {"snap", "ck"}) {
-      std::string cmd = "h5diff ";
-      cmd.append(dir).append("/").append(f).append("_ser.h5 ").append(dir).append("/").append(f).append("_par.h5");
-      const bool eq = std::system(cmd.c_str()) == 0;
-      EXPECT_TRUE(eq) << cmd;
-      files_equal &= eq;
-    }
+    files_equal = serial_equals_parallel(dir);
     const common::SphereSet back = common::read_sphere_set(dir + "/snap_par.h5");
     ASSERT_NE(back.field("damage"), nullptr);
     EXPECT_EQ(back.field("damage")->values, sp.carried[0].values);  // carried fields never move
@@ -208,13 +214,7 @@ TEST(MpiFiles, FewerBondsThanRanksSnapshotAndCheckpointEqualOneRanks) {
     st.energy0 = 1.0;
     write_snapshot(dir + "/snap_ser.h5", st.sp, st.time, st.step, prov(), &st.bonds);
     write_checkpoint(dir + "/ck_ser.h5", st, cfg.dt, st.gravity_block, prov(), cfg.contact.kn);
-    for (const std::string f : {"snap", "ck"}) {
-      std::string cmd = "h5diff ";
-      cmd.append(dir).append("/").append(f).append("_ser.h5 ").append(dir).append("/").append(f).append("_par.h5");
-      const bool eq = std::system(cmd.c_str()) == 0;
-      EXPECT_TRUE(eq) << cmd;
-      files_equal &= eq;
-    }
+    files_equal = serial_equals_parallel(dir);
     EXPECT_EQ(common::read_sphere_set(dir + "/snap_par.h5").bonds.broken.size(), 1u);
   }
   MPI_Bcast(&files_equal, 1, MPI_INT, 0, MPI_COMM_WORLD);
