@@ -6,7 +6,8 @@
 /// between ranks at the exchanges. Rank 0 runs the serial Simulation (one OpenMP thread) beside
 /// the distributed run; tolerance 0: positions, velocities, spins, accelerations, the contact
 /// history, every bond array (shear force, moments, frame, broken flag, released energy) and the
-/// series row's bond terms (stored, released, counts) equal one rank's bit for bit.
+/// series row's bond terms (stored, released, counts) equal one rank's bit for bit; in single
+/// rate, in multi-rate steps, and with the ranks' bond loops on 2 threads (the parallel path).
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <omp.h>
@@ -45,9 +46,9 @@ void add_cube(Spheres& sp, int n, const Vec3& origin, const Vec3& v, std::uint64
 
 // Two cubes 0.3 m apart closing at 4 m/s; bonds of strength `strength` [Pa]; dt an awkward
 // fraction of the shortest contact or bond mode.
-SimConfig bonded_cubes(Spheres& sp, double strength) {
-  add_cube(sp, 6, Vec3::Zero(), Vec3(2.0, 0, 0), 0);
-  add_cube(sp, 5, Vec3(6 * 1.002 + 0.3, 1.3, 0.7), Vec3(-2.0, 0, 0), 1000);
+SimConfig bonded_cubes(Spheres& sp, double strength, int n1 = 6, int n2 = 5) {
+  add_cube(sp, n1, Vec3::Zero(), Vec3(2.0, 0, 0), 0);
+  add_cube(sp, n2, Vec3(n1 * 1.002 + 0.3, 1.3, 0.7), Vec3(-2.0, 0, 0), 100000);
   BondParams bp;
   bp.kn = 1e7;
   bp.ks = 0.5e7;
@@ -89,7 +90,7 @@ double state_diff(const SimState& a, const SimState& b) {
 
 // Run `steps` steps distributed and (rank 0) serially, with series rows every 100 steps: states,
 // bonds and the rows' bond terms equal one rank's bit for bit; returns the broken count (rank 0).
-std::size_t compare_bonded(const Spheres& sp, const SimConfig& cfg, int steps, const char* what) {
+std::size_t compare_bonded(const Spheres& sp, const SimConfig& cfg, int steps, const char* what, int threads = 1) {
   mpi::DomainSim dsim(world(), sp, cfg);
   std::unique_ptr<Simulation> ref;
   if (world().rank == 0) ref = std::make_unique<Simulation>(sp, cfg);
@@ -98,9 +99,14 @@ std::size_t compare_bonded(const Spheres& sp, const SimConfig& cfg, int steps, c
     EXPECT_GT(cross0, 0u) << "the test needs bonds across the ORB cut";
   }
   EXPECT_EQ(dsim.global_bonds(), cfg.bonds.size());
+  if (threads > 1) {  // every rank on the parallel path (BondSystem: from 2 048 intact bonds)
+    EXPECT_GE(dsim.local_bonds(), 2048u) << "rank " << world().rank;
+  }
   int rows = 0, spread = 0;
   for (int k = 1; k <= steps; ++k) {
+    omp_set_num_threads(threads);  // the ranks' threads; the reference on one
     dsim.step();
+    omp_set_num_threads(1);
     if (ref) ref->step();
     if (k % 100 != 0) continue;
     const Diagnostics d = dsim.diagnostics();  // collective; the same bits on every rank
@@ -161,7 +167,7 @@ TEST(MpiBonds, MultirateBondLevelsAcrossDomainsEqualOneRank) {
   Spheres sp;
   SimConfig cfg = bonded_cubes(sp, 2e4);
   for (std::size_t k = 0; k < cfg.bonds.size(); ++k)
-    if (cfg.bonds.id_a[k] >= 1000) {
+    if (cfg.bonds.id_a[k] >= 100000) {
       cfg.bonds.kn[k] *= 64;
       cfg.bonds.ks[k] *= 64;
     }
@@ -170,6 +176,18 @@ TEST(MpiBonds, MultirateBondLevelsAcrossDomainsEqualOneRank) {
   cfg.pair_steps_per_contact = 30.0;
   cfg.gravity_every = 64;
   const std::size_t broken = compare_bonded(sp, cfg, 1600, "bonded cubes, multi-rate");
+  if (world().rank == 0) {
+    EXPECT_GT(broken, 0u);
+  }
+}
+
+TEST(MpiBonds, ParallelBondLoopOnTwoThreadsPerRankEqualsOneRank) {
+  // 14^3 + 10^3 bonded spheres (9 750 bonds, over 2 048 on every rank): each rank evaluates its
+  // bonds on 2 threads (the parallel path of BondSystem), the reference on one thread (the serial
+  // loop); tolerance 0
+  Spheres sp;
+  const SimConfig cfg = bonded_cubes(sp, 2e4, 14, 10);
+  const std::size_t broken = compare_bonded(sp, cfg, 200, "bonded cubes, 2 threads per rank", 2);
   if (world().rank == 0) {
     EXPECT_GT(broken, 0u);
   }
