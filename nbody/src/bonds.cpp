@@ -160,6 +160,10 @@ bool BondSystem::parallel(std::size_t n) {
   if (live_.size() < kParallelBonds || omp_get_max_threads() < 2) return false;
   if (srow_.size() != n + 1) {  // the index of every bond (ia_, ib_ never change)
     const std::size_t nb = ia_.size();
+    for (std::size_t k = 0; k < nb; ++k)
+      if (ia_[k] >= n || ib_[k] >= n)
+        throw std::logic_error("BondSystem: bond " + std::to_string(k) + " names a sphere beyond the " +
+                               std::to_string(n) + " given");
     srow_.assign(n + 1, 0);
     for (std::size_t k = 0; k < nb; ++k) {
       ++srow_[ia_[k] + 1];
@@ -187,7 +191,7 @@ void BondSystem::gather(std::size_t n, const std::uint8_t* only, std::vector<Vec
     if (only && !only[i]) continue;
     for (std::uint32_t q = srow_[i]; q < srow_[i + 1]; ++q) {
       const std::uint32_t k = sadj_[q] >> 1;
-      if (!bon_[k]) continue;
+      if (!bon_[k] || b_.broken[k]) continue;  // (broken: also by a serial call since bon_ was set)
       if (sadj_[q] & 1u) {
         F[i] -= bf_[k];
         T[i] += btb_[k];

@@ -302,9 +302,10 @@ TEST(Bonds, CheckpointKeepsEachBondsReleasedEnergyAndAnOlderFilesTotal) {
 }
 
 TEST(Bonds, ParallelEvaluationEqualsTheSerialLoopBitForBit) {
-  // 13^3 bonded spheres (5 616 bonds: the parallel path from 2 048 on) hit by a sphere that
+  // 13^3 bonded spheres (6 084 bonds: the parallel path from 2 048 on) hit by a sphere that
   // breaks bonds: 1, 2 and 3 threads give the same bits (1 thread: the serial loop; more: every
-  // bond on its own, then each sphere adds its bonds' terms in bond order)
+  // bond on its own, then each sphere adds its bonds' terms in bond order), and so does a run
+  // that changes its thread count while bonds break (2, then 1, then 2 threads)
   Spheres sp = cube(13, 2 * kS * 1.002, 2e-3);
   sp.push(99999, Vec3(-2 * kS - 0.01, 6 * 2 * kS, 6 * 2 * kS), Vec3(8.0, 0, 0), Vec3::Zero(), sphere_mass(kS), kS);
   BondParams bp;
@@ -313,13 +314,21 @@ TEST(Bonds, ParallelEvaluationEqualsTheSerialLoopBitForBit) {
   bp.sigma_c = bp.tau_c = 2e5;
   const SimConfig c = bonded_config(sp, bp, 30.0, 1e8);
   ASSERT_GE(c.bonds.size(), 2048u);
-  Spheres out[3];
-  std::vector<std::uint8_t> broken[3];
-  double released[3];
-  for (int t = 0; t < 3; ++t) {
-    omp_set_num_threads(t + 1);
+  Spheres out[4];
+  std::vector<std::uint8_t> broken[4];
+  double released[4];
+  for (int t = 0; t < 4; ++t) {
+    omp_set_num_threads(t < 3 ? t + 1 : 2);
     Simulation sim(sp, c);
-    sim.run(400);
+    if (t < 3) {
+      sim.run(400);
+    } else {  // the impact's breaks on one thread between parallel stretches
+      sim.run(100);
+      omp_set_num_threads(1);
+      sim.run(150);
+      omp_set_num_threads(2);
+      sim.run(150);
+    }
     out[t] = sim.spheres();
     broken[t] = sim.bond_system()->bonds().broken;
     released[t] = sim.bond_system()->released_energy();
@@ -327,14 +336,27 @@ TEST(Bonds, ParallelEvaluationEqualsTheSerialLoopBitForBit) {
   omp_set_num_threads(2);
   std::size_t nb = 0;
   for (std::uint8_t b : broken[0]) nb += b;
-  std::printf("%zu bonds, %zu broken by the impact, released %.6e J\n", c.bonds.size(), nb, released[0]);
+  std::size_t mid = 0;  // broken in the one-thread stretch of the 2-1-2 run (steps 101-250)
+  {
+    omp_set_num_threads(1);
+    Simulation sim(sp, c);
+    sim.run(100);
+    mid = sim.bond_system()->broken_count();
+    sim.run(150);
+    mid = sim.bond_system()->broken_count() - mid;
+    omp_set_num_threads(2);
+  }
+  std::printf("%zu bonds, %zu broken by the impact (%zu in steps 101-250), released %.6e J\n", c.bonds.size(), nb,
+              mid, released[0]);
+  EXPECT_GT(mid, 0u);
   EXPECT_GT(nb, 0u);
-  for (int t = 1; t < 3; ++t) {
-    EXPECT_EQ(broken[t], broken[0]) << t + 1 << " threads";
-    EXPECT_EQ(released[t], released[0]) << t + 1 << " threads";
+  for (int t = 1; t < 4; ++t) {
+    const char* run = t == 1 ? "2 threads" : t == 2 ? "3 threads" : "2, 1, 2 threads";
+    EXPECT_EQ(broken[t], broken[0]) << run;
+    EXPECT_EQ(released[t], released[0]) << run;
     std::size_t differing = 0;
     for (std::size_t i = 0; i < sp.size(); ++i)
       differing += out[t].x[i] != out[0].x[i] || out[t].v[i] != out[0].v[i] || out[t].w[i] != out[0].w[i];
-    EXPECT_EQ(differing, 0u) << t + 1 << " threads";
+    EXPECT_EQ(differing, 0u) << run;
   }
 }

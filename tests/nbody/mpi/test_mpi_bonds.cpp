@@ -7,7 +7,8 @@
 /// the distributed run; tolerance 0: positions, velocities, spins, accelerations, the contact
 /// history, every bond array (shear force, moments, frame, broken flag, released energy) and the
 /// series row's bond terms (stored, released, counts) equal one rank's bit for bit; in single
-/// rate, in multi-rate steps, and with the ranks' bond loops on 2 threads (the parallel path).
+/// rate, in multi-rate steps, and (single rate, larger cubes) with the ranks' bond loops on 2
+/// threads (the parallel path).
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <omp.h>
