@@ -87,26 +87,29 @@ void write_checkpoint_mpi(Comm& comm, const std::string& path, const DomainSim& 
   blk.history.resize(hb.size() / sizeof(HistoryRecord));
   if (!hb.empty()) std::memcpy(static_cast<void*>(blk.history.data()), hb.data(), hb.size());
 
-  // bonds by their rows (the one-rank order); the released total exact over the ranks
-  std::vector<cm::RowKey> bkey;
-  for (std::uint64_t g : mine.brow) bkey.push_back(cm::RowKey{0, g});
-  long long nb = static_cast<long long>(bkey.size());
-  comm.sum(&nb, 1);
-  const cm::SortedRows bplan(comm, bkey, cm::dense_splitters(static_cast<std::size_t>(nb), comm.size));
-  blk.bonds = move_bonds(bplan, st.bonds);
+  // bonds (a run with bonds: the same on every rank) by their rows, the one-rank order; the
+  // released total exact over the ranks
+  const std::size_t nb = sim.global_bonds();
+  std::size_t boff = 0;
   common::ExactSum released;
-  for (double e : blk.bonds.released) released.add(e);
-  if (comm.rank == 0) released.add(st.bonds.released_base);
-  cm::allreduce(comm, released);
+  if (nb > 0) {
+    std::vector<cm::RowKey> bkey;
+    for (std::uint64_t g : mine.brow) bkey.push_back(cm::RowKey{0, g});
+    const cm::SortedRows bplan(comm, bkey, cm::dense_splitters(nb, comm.size));
+    boff = bplan.offset();
+    blk.bonds = move_bonds(bplan, st.bonds);
+    for (double e : blk.bonds.released) released.add(e);
+    if (comm.rank == 0) released.add(st.bonds.released_base);
+    cm::allreduce(comm, released);
+  }
 
   const std::uintmax_t state_bytes = b.plan.total() * (5 * 24 + 12) +
-                                     hplan.total() * (16 + kHistVec * 24 + kHistScal * 8) +
-                                     bplan.total() * 160 + (std::uintmax_t{1} << 16);
+                                     hplan.total() * (16 + kHistVec * 24 + kHistScal * 8) + nb * 160 +
+                                     (std::uintmax_t{1} << 16);
   cm::ParallelFile file(comm, path, cm::sphere_file_bytes(b.set, b.plan.total()) + state_bytes);
   bool ok = common::write_sphere_content(file.id(), b.set, prov, file.rows(b.plan.offset(), b.plan.total()));
   ok = write_state_group(file.id(), blk, h, file.rows(b.plan.offset(), b.plan.total()),
-                         file.rows(hplan.offset(), hplan.total()), file.rows(bplan.offset(), bplan.total()),
-                         released.value()) &&
+                         file.rows(hplan.offset(), hplan.total()), file.rows(boff, nb), released.value()) &&
        ok;
   file.commit(ok);
   cm::agreed(comm, [&] {  // the sidecar: a failure there fails every rank alike

@@ -24,11 +24,12 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/simulation.hpp"
 
-#include "mpi_world.hpp"
+#include "mpi_support.hpp"
 
 using namespace ssdem;
 
 namespace {
+using ssdem_test::state_diff;
 using ssdem_test::world;
 
 constexpr double kS = 0.5, kRho = 2000.0;
@@ -71,21 +72,6 @@ double bond_diff(const BondSet& a, const BondSet& b) {
   for (std::size_t k = 0; k < a.size(); ++k)
     d = std::max({d, (a.Fs[k] - b.Fs[k]).norm(), (a.Mb[k] - b.Mb[k]).norm(), (a.n_old[k] - b.n_old[k]).norm(),
                   std::fabs(a.Mt[k] - b.Mt[k]), std::fabs(a.released[k] - b.released[k])});
-  return d;
-}
-double state_diff(const SimState& a, const SimState& b) {
-  if (a.sp.size() != b.sp.size() || a.history.size() != b.history.size() || a.step != b.step) return -1;
-  double d = 0;
-  for (std::size_t i = 0; i < a.sp.size(); ++i) {
-    if (a.sp.id[i] != b.sp.id[i]) return -1;
-    d = std::max({d, (a.sp.x[i] - b.sp.x[i]).norm(), (a.sp.v[i] - b.sp.v[i]).norm(), (a.sp.w[i] - b.sp.w[i]).norm(),
-                  (a.a[i] - b.a[i]).norm(), (a.alpha[i] - b.alpha[i]).norm()});
-  }
-  for (std::size_t k = 0; k < a.history.size(); ++k) {
-    if (a.history[k].id_a != b.history[k].id_a || a.history[k].id_b != b.history[k].id_b) return -1;
-    for (std::size_t q = 0; q < a.history[k].v.size(); ++q)
-      d = std::max(d, (a.history[k].v[q] - b.history[k].v[q]).norm());
-  }
   return d;
 }
 

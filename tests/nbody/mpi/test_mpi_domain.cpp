@@ -11,7 +11,7 @@
 /// one step; repeated runs; a restart of a gathered state; and the same with multi-rate block
 /// steps (time.multirate): two bodies of unequal spheres whose pairs step on different levels,
 /// equalised across domain boundaries (levels, promotions and evaluations equal one rank's), and
-/// a multi-rate restart on fewer ranks.
+/// a multi-rate restart on fewer ranks. (The failure check across ranks: test_mpi_failure_check.cpp.)
 #include <gtest/gtest.h>
 #include <mpi.h>
 #include <omp.h>
@@ -28,11 +28,13 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/simulation.hpp"
 
-#include "mpi_world.hpp"
+#include "mpi_support.hpp"
 
 using namespace ssdem;
 
 namespace {
+using ssdem_test::pile_config;
+using ssdem_test::state_diff;
 using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres with random velocities (0.3 v_esc) and spins.
@@ -46,20 +48,6 @@ Spheres pile(double R = 0.75, std::uint64_t first_id = 0) {
   }
   return sp;
 }
-SimConfig config(const Spheres& sp, double vmax, bool tree, bool adaptive) {
-  const DtAdvice adv = choose_kn_dt(sp.m[0], 0.1, vmax, 1.0, 0.01, 30);
-  SimConfig c;
-  c.self_gravity = true;
-  c.direct_gravity = !tree;
-  c.gravity.G = 1.0;
-  c.adaptive_gravity = adaptive;
-  c.gravity_every = 3;
-  c.contacts = true;
-  c.contact = gravel_preset(adv.kn);
-  c.dt = 0.77 * adv.dt;  // not a round number of steps per contact
-  return c;
-}
-
 struct Totals {
   double m = 0;
   Vec3 P = Vec3::Zero(), L = Vec3::Zero();
@@ -72,24 +60,6 @@ Totals totals(const SimState& s) {
     t.L += s.sp.m[i] * s.sp.x[i].cross(s.sp.v[i]) + 0.4 * s.sp.m[i] * s.sp.s[i] * s.sp.s[i] * s.sp.w[i];
   }
   return t;
-}
-
-// Largest difference between the distributed (gathered) and the one-rank state; -1 if the
-// layouts differ. Rank 0 only.
-double max_diff(const SimState& a, const SimState& b) {
-  if (a.sp.size() != b.sp.size() || a.history.size() != b.history.size() || a.step != b.step) return -1;
-  double d = 0;
-  for (std::size_t i = 0; i < a.sp.size(); ++i) {
-    if (a.sp.id[i] != b.sp.id[i]) return -1;
-    d = std::max({d, (a.sp.x[i] - b.sp.x[i]).norm(), (a.sp.v[i] - b.sp.v[i]).norm(), (a.sp.w[i] - b.sp.w[i]).norm(),
-                  (a.a[i] - b.a[i]).norm()});
-  }
-  for (std::size_t k = 0; k < a.history.size(); ++k) {
-    if (a.history[k].id_a != b.history[k].id_a || a.history[k].id_b != b.history[k].id_b) return -1;
-    for (std::size_t q = 0; q < a.history[k].v.size(); ++q)
-      d = std::max(d, (a.history[k].v[q] - b.history[k].v[q]).norm());
-  }
-  return d;
 }
 
 // Run `steps` steps distributed and (rank 0) serially; expect bit-identical states and totals.
@@ -108,7 +78,7 @@ SimState compare(const Spheres& sp, const SimConfig& cfg, int steps, const char*
   SimState got = dsim.gather_state();
   if (ref) {
     const SimState want = ref->state();
-    const double d = max_diff(got, want);
+    const double d = state_diff(got, want);
     const Totals tg = totals(got), tw = totals(want);
     std::printf("%s, %d ranks, %d steps: max |difference| vs one rank %.3g; mass %.17g vs %.17g, |dP| %.3g, "
                 "|dL| %.3g; %zu contacts\n",
@@ -142,7 +112,7 @@ Spheres two_bodies_unequal(double dt, double meet) {
   return a;
 }
 SimConfig multirate_config() {
-  SimConfig c = config(pile(0.6), 2.0, true, true);
+  SimConfig c = pile_config(pile(0.6), 2.0, true, true);
   c.multirate = true;
   c.pair_steps_per_contact = 30.0;
   c.gravity_max_every = 16;
@@ -201,7 +171,7 @@ void restart_on_fewer_ranks(const Spheres& sp, const SimConfig& cfg, std::int64_
   if (world().rank == 0) {
     Simulation ref(sp, cfg);
     while (ref.step_count() < total) ref.step();
-    const double dd = max_diff(fin, ref.state());
+    const double dd = state_diff(fin, ref.state());
     std::printf("restart %d -> %d ranks at step %lld%s: max |difference| vs %lld steps on one rank %.3g\n",
                 world().size, m, static_cast<long long>(mid.step), cfg.multirate ? " (multi-rate)" : "",
                 static_cast<long long>(total), dd);
@@ -215,7 +185,7 @@ void restart_on_fewer_ranks(const Spheres& sp, const SimConfig& cfg, std::int64_
 
 TEST(MpiDomain, SelfGravitatingPileTreeAdaptiveCadenceEqualsOneRank) {
   const Spheres sp = pile();
-  const SimConfig cfg = config(sp, std::sqrt(2 * total_mass(sp) / 0.75), true, true);
+  const SimConfig cfg = pile_config(sp, std::sqrt(2 * total_mass(sp) / 0.75), true, true);
   std::size_t min_own = sp.size(), max_ghosts = 0;
   compare(sp, cfg, 400, "pile (tree, adaptive cadence)", [&](const mpi::DomainSim& d) {
     min_own = std::min(min_own, d.owned());
@@ -229,7 +199,7 @@ TEST(MpiDomain, SeriesRowPotentialIsNotCountedAsIntegrationGravity) {
   // A row between gravity evaluations makes one of its own (the potential at the current
   // positions): its traffic is "other", and the integration's gravity counters stay as they were.
   const Spheres sp = pile();
-  SimConfig cfg = config(sp, std::sqrt(2 * total_mass(sp) / 0.75), true, false);
+  SimConfig cfg = pile_config(sp, std::sqrt(2 * total_mass(sp) / 0.75), true, false);
   cfg.gravity_every = 4;
   mpi::DomainSim d(world(), sp, cfg);
   for (int k = 0; k < 6; ++k) d.step();  // step 6: not a gravity step (every 4)
@@ -257,7 +227,7 @@ TEST(MpiDomain, TwoBodyReaccumulationContactsAcrossDomainsEqualOneRank) {
   std::uint64_t first2 = 0;  // body 2's ids start above body 1's (append_body)
   for (auto id : a.id) first2 = std::max(first2, id + 1);
   append_body(a, b, Vec3(1.0 - gap + 0.01, 0.15, 0.0), Vec3(-1.5, 0.0, 0.0));
-  const SimConfig cfg = config(a, 2.0, false, false);
+  const SimConfig cfg = pile_config(a, 2.0, false, false);
   int steps_crossing = 0, between = 0, calls = 0;
   std::size_t most = 0;
   compare(a, cfg, 900, "two-body reaccumulation (direct gravity, every 3)", [&](const mpi::DomainSim& d) {
@@ -304,7 +274,7 @@ TEST(MpiDomain, TwoSpheresCollideWithMoreRanksThanSpheres) {
   Spheres sp;
   sp.push(1, Vec3(-0.105, 0.01, 0), Vec3(0.5, 0, 0), Vec3(0, 0, 3), 0.004, 0.1);
   sp.push(2, Vec3(0.105, 0, 0), Vec3(-0.5, 0, 0), Vec3::Zero(), 0.004, 0.1);
-  const SimConfig cfg = config(sp, 1.0, false, false);
+  const SimConfig cfg = pile_config(sp, 1.0, false, false);
   int empty = 0, crossing = 0;
   const SimState st = compare(sp, cfg, 300, "two spheres, head-on contact", [&](const mpi::DomainSim& d) {
     empty += total_int(d.owned() == 0 ? 1 : 0);
@@ -400,7 +370,7 @@ TEST(MpiDomain, SphereFallingOnADomainBoundaryTriggersTheExchange) {
 
 TEST(MpiDomain, RepeatedRunsOnTwoThreadsPerRankBitIdentical) {
   const Spheres sp = pile(0.6);
-  const SimConfig cfg = config(sp, 1.5, true, false);
+  const SimConfig cfg = pile_config(sp, 1.5, true, false);
   omp_set_num_threads(2);
   SimState st[2];
   for (auto& s : st) {
@@ -410,13 +380,13 @@ TEST(MpiDomain, RepeatedRunsOnTwoThreadsPerRankBitIdentical) {
   }
   omp_set_num_threads(1);
   if (world().rank == 0) {
-    EXPECT_EQ(max_diff(st[0], st[1]), 0.0);
+    EXPECT_EQ(state_diff(st[0], st[1]), 0.0);
   }
 }
 
 TEST(MpiDomain, RestartOnFewerRanksContinuesBitIdentically) {
   const Spheres sp = pile(0.6);
-  restart_on_fewer_ranks(sp, config(sp, 1.5, true, true), 150, 300);
+  restart_on_fewer_ranks(sp, pile_config(sp, 1.5, true, true), 150, 300);
 }
 
 TEST(MpiDomain, MultirateLevelsAcrossDomainsEqualOneRank) {
@@ -448,7 +418,7 @@ TEST(MpiDomain, MultirateLevelsAcrossDomainsEqualOneRank) {
   MPI_Allreduce(MPI_IN_PLACE, &rounds_max, 1, MPI_INT64_T, MPI_MAX, MPI_COMM_WORLD);
   if (ref) {
     const SimState want = ref->state();
-    const double dd = max_diff(got, want);
+    const double dd = state_diff(got, want);
     const LevelStats& rl = ref->level_stats();
     int used = 0;
     for (double t : rl.sphere_time) used += t > 0;
@@ -486,7 +456,7 @@ TEST(MpiDomain, MultirateEqualisationCrossesDomainsInRoundsOfOneStep) {
   sp.push(0, Vec3(-2.0 * R - 0.02003, 0.0, 0.0), Vec3(0.5, 0.0, 0.0), Vec3::Zero(), m, R);
   for (int k = 0; k < 30; ++k)
     sp.push(1 + k, Vec3(k * 2.0 * R * (1.0 + 1e-3), 0.0, 0.0), Vec3::Zero(), Vec3::Zero(), 20.0 * m, R);
-  SimConfig cfg = config(sp, 1.0, false, false);
+  SimConfig cfg = pile_config(sp, 1.0, false, false);
   cfg.self_gravity = false;
   cfg.gravity_every = 16;
   cfg.multirate = true;
@@ -508,9 +478,9 @@ TEST(MpiDomain, MultirateEqualisationCrossesDomainsInRoundsOfOneStep) {
     const LevelStats& rl = ref->level_stats();
     std::printf("rod, %d ranks: max |difference| vs one rank %.3g; promotions %lld (one rank %lld); at most %lld "
                 "equalisation rounds in one base step; final levels %s\n",
-                world().size, max_diff(got, want), static_cast<long long>(ls.promotions),
+                world().size, state_diff(got, want), static_cast<long long>(ls.promotions),
                 static_cast<long long>(rl.promotions), static_cast<long long>(most), rl.histogram_text().c_str());
-    EXPECT_EQ(max_diff(got, want), 0.0);
+    EXPECT_EQ(state_diff(got, want), 0.0);
     EXPECT_EQ(got.level, want.level);
     EXPECT_EQ(ls.promotions, rl.promotions);
     EXPECT_EQ(rl.promotions, 31);  // the rod and the light sphere promoted
@@ -523,86 +493,4 @@ TEST(MpiDomain, MultirateEqualisationCrossesDomainsInRoundsOfOneStep) {
 TEST(MpiDomain, MultirateRestartOnFewerRanksContinuesBitIdentically) {
   const SimConfig cfg = multirate_config();
   restart_on_fewer_ranks(two_bodies_unequal(cfg.dt, 300), cfg, 400, 800);
-}
-
-TEST(MpiDomain, RunawayOverlapInsideAGravityBlockFailsAtTheOneRankStep) {
-  // Two spheres meeting far too fast for k_n: the overlap limit is passed in the middle of a long
-  // gravity block, where the ranks decide the failure check together at the next base step's
-  // movers allgather (domain_sim.cpp check_state). Every rank must fail, naming the step at which
-  // one rank fails, one base step later at most.
-  Spheres sp;
-  sp.push(1, Vec3(-0.102, 0.0, 0), Vec3(30.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
-  sp.push(2, Vec3(0.102, 0.0, 0), Vec3(-30.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
-  SimConfig cfg = config(sp, 1.0, false, false);  // k_n for 1 (G = 1 units), here 60 relative
-  cfg.gravity_every = 1000;
-  cfg.max_overlap_frac = 0.3;
-  std::string one;
-  std::int64_t one_step = -1;
-  {
-    Simulation ref(sp, cfg);
-    try {
-      for (int k = 0; k < 2000; ++k) ref.step();
-    } catch (const common::NumericalError& e) {
-      one = e.what();
-      one_step = ref.step_count();
-    }
-  }
-  ASSERT_FALSE(one.empty()) << "the one-rank run must fail";
-  ASSERT_LT(one_step, 1000) << "inside the first gravity block";
-  mpi::DomainSim d(world(), sp, cfg);
-  std::string many;
-  std::int64_t many_step = -1;
-  try {
-    for (int k = 0; k < 2000; ++k) d.step();
-  } catch (const common::NumericalError& e) {
-    many = e.what();
-    many_step = d.step_count();
-  }
-  EXPECT_EQ(many, one) << "rank " << world().rank;
-  EXPECT_TRUE(many_step == one_step || many_step == one_step + 1) << many_step << " vs " << one_step;
-  if (world().rank == 0) std::printf("runaway overlap: one rank fails at step %lld (%s); %d ranks at %lld\n",
-                                     static_cast<long long>(one_step), one.c_str(), world().size,
-                                     static_cast<long long>(many_step));
-}
-
-TEST(MpiDomain, NonFiniteStateInsideAGravityBlockFailsWithTheOneRankMessage) {
-  // Two spheres meeting with an absurd k_n: the contact force overflows to inf and the state
-  // turns non-finite inside a long gravity block, so the ranks decide the check at the next base
-  // step's movers allgather. Every rank must fail with the one-rank message (the first
-  // non-finite sphere in index order, its id, the step).
-  Spheres sp;
-  sp.push(1, Vec3(-0.1002, 0.0, 0), Vec3(1.0, 0, 0), Vec3::Zero(), 0.004, 0.1);  // they touch after a few steps
-  sp.push(2, Vec3(0.1002, 0.0, 0), Vec3(-1.0, 0, 0), Vec3::Zero(), 0.004, 0.1);
-  SimConfig cfg = config(sp, 1.0, false, false);
-  cfg.contact.kn = 1e308;
-  cfg.min_steps_per_contact = 1e-300;  // let the dt rule pass this k_n
-  cfg.max_overlap_frac = 1e300;        // the overlap check must not fire first
-  cfg.gravity_every = 1000;
-  std::string one;
-  std::int64_t one_step = -1;
-  {
-    Simulation ref(sp, cfg);
-    try {
-      for (int k = 0; k < 500; ++k) ref.step();
-    } catch (const common::NumericalError& e) {
-      one = e.what();
-      one_step = ref.step_count();
-    }
-  }
-  ASSERT_NE(one.find("non-finite"), std::string::npos) << "the one-rank run must fail non-finite: '" << one << "'";
-  ASSERT_GT(one_step, 1) << "after the first step, inside the first gravity block";
-  mpi::DomainSim d(world(), sp, cfg);
-  std::string many;
-  std::int64_t many_step = -1;
-  try {
-    for (int k = 0; k < 500; ++k) d.step();
-  } catch (const common::NumericalError& e) {
-    many = e.what();
-    many_step = d.step_count();
-  }
-  EXPECT_EQ(many, one) << "rank " << world().rank;
-  EXPECT_TRUE(many_step == one_step || many_step == one_step + 1) << many_step << " vs " << one_step;
-  if (world().rank == 0) std::printf("non-finite: one rank at step %lld (%s); %d ranks at %lld\n",
-                                     static_cast<long long>(one_step), one.c_str(), world().size,
-                                     static_cast<long long>(many_step));
 }

@@ -25,7 +25,7 @@
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/mpi/io_mpi.hpp"
 
-#include "mpi_world.hpp"
+#include "mpi_support.hpp"
 
 using namespace ssdem;
 
