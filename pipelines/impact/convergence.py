@@ -13,8 +13,10 @@ three finest runs by Richardson extrapolation with an observed order p:
     f_0 = f1 - C h1^p,  C = (f2 - f1) / (h2^p - h1^p).
 
 When the differences change sign (non-monotone convergence), no p in (0.05, 8) fits, or the p that
-fits is outside P_CREDIBLE = [0.5, 4], there is no asymptotic range: the table then reports the finest value with the spread of the three finest
-as its uncertainty, and says so.
+fits is outside P_CREDIBLE = [0.5, 4], or the extrapolated value lies outside the quantity's physical
+range (PHYSICAL: a mass ratio or a loss fraction in [0, 1], a heat >= 0), there is no asymptotic range:
+the table then reports the finest value with the spread of the three finest as its uncertainty, and
+says so.
 
 With --ensemble EDIR (ensemble.py's output for several flaw seeds at one of the cells; may be given
 once per cell) the seed scatter enters the uncertainty of the estimate: u = sqrt(d^2 + s^2),
@@ -40,6 +42,9 @@ QUANTITIES = (("M_LR_over_M_PB", "M_LR/M_PB"), ("beta", "beta"), ("ke_loss", "ha
 # finest runs are not in the asymptotic range; an extrapolation with p -> 0 runs off to anything.
 P_CREDIBLE = (0.5, 4.0)
 PAPER = {"M_LR_over_M_PB": 0.85, "beta": 1.69}  # El Mir, Ramesh & Richardson (2019), 200 m cells, 4.5 h
+# The range each quantity can physically take: an extrapolated value outside it (e.g. a negative
+# transfer heat from an order p ~ 1 fit) is not an asymptotic estimate either.
+PHYSICAL = {"M_LR_over_M_PB": (0.0, 1.0), "ke_loss": (0.0, 1.0), "transfer_heat_frac": (0.0, math.inf)}
 
 
 def read_ensemble(edir):
@@ -85,6 +90,15 @@ def richardson(h, f):
         return None, None, f"observed order {p:.2f} outside {P_CREDIBLE}: not in the asymptotic range"
     C = d21 / (h2 ** p - h1 ** p)
     return f1 - C * h1 ** p, p, "Richardson"
+
+
+def estimate(key, h, f):
+    """richardson(h, f), refused where the extrapolated value leaves the quantity's PHYSICAL range."""
+    f0, p, note = richardson(h, f)
+    lo, hi = PHYSICAL.get(key, (-math.inf, math.inf))
+    if f0 is not None and not lo <= f0 <= hi:
+        return None, None, f"Richardson value {f0:.3g} outside the physical range [{lo:g}, {hi:g}]: no asymptotic range"
+    return f0, p, note
 
 
 def main(argv=None):
@@ -134,7 +148,7 @@ def main(argv=None):
     summary = {}
     for key, label in QUANTITIES:
         vals = [r[key] for r in runs]
-        f0, p, note = richardson(h, vals)
+        f0, p, note = estimate(key, h, vals)
         finest = next((v for hh, v in sorted(zip(h, vals)) if v is not None), None)
         three = [v for hh, v in sorted(zip(h, vals)) if v is not None][:3]
         spread = (max(three) - min(three)) if len(three) >= 2 else None
