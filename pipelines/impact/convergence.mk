@@ -11,9 +11,9 @@
 # pipeline's defaults): 30 s of MPM, one sphere per MPM cell (COARSEN = 1), fragments faster than
 # 1 km/s dropped at the hand-off, 4.5 h of reaccumulation with every contacting pair resolved by
 # >= 20 steps (multi-rate, reaccumulate.toml); the impactor's particle spacing is <= 500 m
-# (body[1].ppc). The N-body cost grows as ~h^-4 (README: on 2 cores ~3 min at 2000 m, ~10 min at
-# 1500 m, ~1.5 h at 1000 m (measured to 2.2 h of the 4.5 h), ~2 days at 375 m), so on a small machine give e.g.
-# IMPACT_CONV_CELLS="2000 1500 1000".
+# (body[1].ppc). The N-body cost grows as ~h^-4 (README, measured on 2 cores: 82 s at 2000 m, 194 s
+# at 1500 m, 547 s at 1000 m, 53 min at 750 m; ~4-5 h at 500 m and ~15 h at 375 m by that scaling),
+# so on a small machine give e.g. IMPACT_CONV_CELLS="2000 1500 1000 750".
 # Each run stops after the analysis (no report); every stage is rerun only when its inputs change.
 # Then for each reading convergence.py writes d<D>/convergence.{md,csv,png} over the cell runs that
 # exist (Richardson from the three finest, the seed scatter from every d<D>/ensemble-c<cell>) and
