@@ -164,8 +164,9 @@ def main(argv=None):
         md.append(f"| {label} | {num(finest, '{:.4g}')} | {num(f0, '{:.4g}')} | {num(p, '{:.2f}')} | {dist} | "
                   f"{num(sd, '{:.3g}')}{sd_cell} | "
                   f"{num(est, '{:.4g}')} ± {num(u, '{:.2g}')} | {PAPER.get(key, '')} | {note} |")
-    md += ["", "The demo resolution is the 1000 m row; its distance to the extrapolated value (or to the "
-           "finest run where no asymptotic range exists) is how far the demo is from converged. "
+    md += ["", "The demo (`make -C pipelines demo`) runs at 2000 m cells (DEMO_CELL); its row's distance to the "
+           "extrapolated value (or to the finest run where no asymptotic range exists) is how far the demo is "
+           "from converged. "
            "u = sqrt(d^2 + seed std^2), d = the finest run's distance to the extrapolated value, or the spread "
            "of the three finest runs where there is no asymptotic fit.", ""]
     th = [(r["cell_m"], r["transfer_heat_frac"]) for r in runs if r["cell_m"] and r["transfer_heat_frac"]]
