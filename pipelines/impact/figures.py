@@ -45,9 +45,11 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def listed(path):
-    """The snapshots a stage's `done` file lists (checkpoints, which repeat the last state, left out)."""
+    """The snapshots a stage's `done` file lists: checkpoints (which repeat the last state) and the
+    MPM's outflow file (only the material that left the grid, stamped with the end time) left out."""
     with open(path) as f:
-        return [ln.strip() for ln in f if ln.strip() and "checkpoint" not in os.path.basename(ln)]
+        names = [ln.strip() for ln in f if ln.strip()]
+    return [n for n in names if "checkpoint" not in os.path.basename(n) and "_outflow" not in os.path.basename(n)]
 
 
 def timed(files, kind):

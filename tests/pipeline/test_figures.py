@@ -22,7 +22,7 @@ import numpy as np
 
 root, work = sys.argv[1], sys.argv[2]
 sys.path.insert(0, os.path.join(root, "pipelines", "impact"))
-from figures import shell_profile  # noqa: E402
+from figures import listed, shell_profile  # noqa: E402
 
 
 def fail(msg):
@@ -36,6 +36,17 @@ def lattice_ball(radius, h, centre):
     x = x[np.linalg.norm(x, axis=1) <= radius]
     return x + centre
 
+
+# 0. the MPM stage's done list: the snapshots only (its last entries were taken as the end of the
+#    MPM: the outflow file, which holds only the particles that left the grid, made the end-of-MPM
+#    profile a single shell)
+os.makedirs(work, exist_ok=True)
+with open(os.path.join(work, "done"), "w") as f:
+    f.write("r/fragment/frag_000000.h5\nr/fragment/frag_002424.h5\nr/fragment/frag_checkpoint.h5\n"
+            "r/fragment/frag_outflow.h5\n")
+got = listed(os.path.join(work, "done"))
+if got != ["r/fragment/frag_000000.h5", "r/fragment/frag_002424.h5"]:
+    fail(f"listed() kept {got}")
 
 # 1. profile
 R_T, h = 1000.0, 37.0
