@@ -38,6 +38,7 @@ sys.path.insert(0, os.path.join(HERE, os.pardir, "report"))
 from impact_report.figures import figure_history  # noqa: E402
 from impact_report.inputs import read_items  # noqa: E402
 import atomic  # noqa: E402  (pipelines/lib, on the path through impact_report)
+from snapshots import is_snapshot  # noqa: E402  (pipelines/lib)
 import matplotlib  # noqa: E402
 
 matplotlib.use("Agg")
@@ -45,11 +46,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def listed(path):
-    """The snapshots a stage's `done` file lists: checkpoints (which repeat the last state) and the
-    MPM's outflow file (only the material that left the grid, stamped with the end time) left out."""
+    """The snapshots a stage's `done` file lists (snapshots.is_snapshot: no checkpoint, no outflow file)."""
     with open(path) as f:
-        names = [ln.strip() for ln in f if ln.strip()]
-    return [n for n in names if "checkpoint" not in os.path.basename(n) and "_outflow" not in os.path.basename(n)]
+        return [n for n in (ln.strip() for ln in f) if n and is_snapshot(n)]
 
 
 def timed(files, kind):

@@ -193,6 +193,9 @@ def build_run(root, analyse):
         f.write('{"stage": "plot", "wall_s": 2.000, "exit_code": 0, "threads": "2"}\n')
     # a link to the last MPM snapshot must not count twice
     os.symlink("mpm_000002.h5", os.path.join(root, "fragment", "final.h5"))
+    # nor mpm-frag's restart checkpoint and outflow file (copies with the snapshot's format)
+    for extra in ("mpm_checkpoint.h5", "mpm_outflow.h5"):
+        shutil.copy(os.path.join(root, "fragment", "mpm_000002.h5"), os.path.join(root, "fragment", extra))
     with open(os.path.join(root, "scene.toml"), "w") as f:
         f.write(SCENE)
     prefix = os.path.join(root, "analysis", "analysis")
@@ -266,7 +269,7 @@ def main():
     check("| fragment | 12.5 s |" in md and "| analyse | 3.5 s |" in md and "| report | 1.25 s |" in md
           and "| plot (2 threads) | 2 s |" in md and "| **total** | 100 s |" in md,
           "run times table (csv, time -f %e, time -p, timed.sh JSON) with total")
-    check("MPM snapshots: 3" in md, "three MPM snapshots (the final.h5 link not counted twice)")
+    check("MPM snapshots: 3" in md, "three MPM snapshots (the final.h5 link, the checkpoint and the outflow file not counted)")
     with open(prefix + ".json") as f:
         summ = json.load(f)
     lr = summ["final"]["M_LR_over_M_PB"]

@@ -5,6 +5,7 @@ import json
 import os
 
 from h5io import attr as h5_attr, h5py, provenance  # pipelines/lib
+from snapshots import is_snapshot  # pipelines/lib
 
 
 class Run:
@@ -34,7 +35,7 @@ def classify_h5(path, run):
     if base.startswith("failed_state") or "failed" in base:
         run.failed_states.append(path)
         return
-    if base.startswith("checkpoint") or base.endswith("_outflow.h5"):  # outflow: handed off, not a snapshot
+    if not is_snapshot(path):  # checkpoints (mpm-frag's too: they were counted) and the outflow file
         return
     if fmt_ == "mpm-frag.particles":
         run.mpm.append((t, path))
