@@ -17,7 +17,8 @@
 ///   midpoint: the USL step, with e from the power of the grid force V_n (sigma_n - q_n I) : L(v_mid),
 ///   v_mid = (v + v*)/2, and the transfer kinetic-energy fix-up (energy_budget.hpp).
 ///   q = rho (A1 c_bulk |tr D| h + A2 (tr D h)^2) if tr D < 0 else 0 (Uintah; mpm.md §1.5)
-///   dt = C min(h) / max_p (c_dil,p + |v_p|), capped by dt_max.
+///   dt = C min(h) / max_p (s_p + |v_p|), capped by dt_max; s = c_dil, or with the viscosity acting
+///   s = Q + sqrt(Q^2 + c_dil^2), Q = A2 h |tr D| (material_update.cpp).
 ///
 /// Deterministic parallel scatter: particles are binned every step into blocks of 4^3 cells
 /// (counting sort, stable in particle index); P2G runs over the 8 block colours in turn, blocks

@@ -5,8 +5,19 @@
 ///
 ///   e_{n+1} = e_n + dt/(2 rho_{n+1}) (sigma_n : L + sigma_{n+1} : L)  +  q |tr D| dt / rho_{n+1}
 ///   q = rho (A1 c_bulk |tr D| h + A2 (tr D h)^2) if tr D < 0 else 0
-///   max_p (c_dil,p + |v_p|) for dt = C min(h) / max_p (c_dil,p + |v_p|)  (c_dil = 0 for the
-///   particles of velocity-driven bodies, which move rigidly: body_drive.hpp)
+///   max_p (s_p + |v_p|) for dt = C min(h) / max_p (s_p + |v_p|), with the signal speed
+///   s = Q + sqrt(Q^2 + c_dil^2), Q = A2 h |tr D| where the viscosity acts (tr D < 0), else
+///   s = c_dil (c_dil = 0 and Q = 0 for the particles of velocity-driven bodies, which move
+///   rigidly: body_drive.hpp). This is the element time step of explicit codes with bulk
+///   viscosity, Q = A1 c + A2 h |tr D| (LS-DYNA Theory Manual, "time step control" of solids;
+///   Wilkins 1980, J. Comput. Phys. 36:281) [R], without its linear term. Deviation, and why: with
+///   A1 c in Q, s jumps by 22 % where tr D changes sign, so a particle whose tr D is zero to
+///   round-off would change the step, and the result would depend on the MPI rank count (test
+///   mpm_mpi_np2); the linear term alone is a diffusion of number A1 c dt / h <= A1 C = 0.06, far
+///   inside its limit. Without Q, the q of a compressing particle can drive a node that carries a
+///   small share of its mass (an impactor smaller than a cell) through the compression within one
+///   step, and q then does work on the flow (negative shock heat:
+///   test EnergyBudget.ArtificialViscosityOnlyDissipatesOnASubCellImpactor).
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -88,11 +99,13 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
       e[k] += 0.5 * dt * (wpre[k] + wpost) / rho;
       ps_.work_dev[ch.begin + k] += 0.5 * dt * (wpre[k] - wpre[kChunk + k] + wpost - vpost) / rho;
     }
+    double Q = 0.0;  // the viscous signal speed of the quadratic term, A2 h |tr D| (0 without compression)
     if (q) {
       double qq = 0.0;
       if (trD < 0.0) {
         const double hh = h_min_;
-        qq = rho * (cfg_.av_a1 * bs[k] * (-trD) * hh + cfg_.av_a2 * trD * trD * hh * hh);
+        Q = cfg_.av_a2 * (-trD) * hh;
+        qq = rho * (cfg_.av_a1 * bs[k] * (-trD) * hh + Q * (-trD) * hh);
       }
       q[k] = qq;
       if (dt > 0.0 && !consistent) {
@@ -101,8 +114,9 @@ void Solver::run_material_chunk(std::size_t c, double dt, const double* L, doubl
       }
     }
     // a driven body is rigid (its nodes are prescribed, body_drive.hpp): no wave speed in the CFL
-    const double wk = !drives_.empty() && drive_of(b.id[k]) >= 0 ? 0.0 : ws[k];
-    const double sp2 = wk + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
+    const bool driven = !drives_.empty() && drive_of(b.id[k]) >= 0;
+    const double wk = driven ? 0.0 : ws[k], Qk = driven ? 0.0 : Q;
+    const double sp2 = (Qk > 0.0 ? Qk + std::sqrt(Qk * Qk + wk * wk) : wk) + std::sqrt(v[3 * k] * v[3 * k] + v[3 * k + 1] * v[3 * k + 1] + v[3 * k + 2] * v[3 * k + 2]);
     const bool finite = std::isfinite(s[0] + s[1] + s[2] + s[3] + s[4] + s[5] + e[k] + sp2);
     if (!finite) {
       if (!fails++) {

@@ -3,7 +3,8 @@
 /// references: Uintah explicit step, shared/reference/mpm.md §1.2–1.6; Sulsky, Chen & Schreyer
 /// 1994; Sulsky, Zhou & Schreyer 1995 for MUSL; Bardenhagen & Kober 2004 for GIMP):
 /// construction and input checks, initialize (initial stress and wave speeds), the CFL step
-/// dt = C min(h) / max_p (c_dil,p + |v_p|) capped by dt_max, step() and save_backup().
+/// dt = C min(h) / max_p (s_p + |v_p|) (s: the signal speed, material_update.cpp) capped by dt_max,
+/// step() and save_backup().
 ///
 ///   USL:  P2G (m, mv, f) -> v -> BC(v) -> v* -> BC(v*) -> G2P (v_p, x_p, L from v*)
 ///   MUSL: P2G (m, mv, f) -> v -> BC(v) -> v* -> BC(v*) -> FLIP v_p + re-projection (mv)

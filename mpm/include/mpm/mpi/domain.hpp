@@ -42,7 +42,7 @@
 ///      owner, values sent back" of the issue with one message per neighbour instead of two: the
 ///      grid update, the face conditions and G2P then run on owned and ghost nodes alike from
 ///      identical inputs, which is what sending the updated owner values back would give.
-///   4. global reductions (Comm::max, exact): the signal speed max_p (c_p + |v_p|) of dt =
+///   4. global reductions (Comm::max, exact): the signal speed max_p (s_p + |v_p|) of dt =
 ///      C h / max (every rank takes the same dt), the smallest particle mass of m_min, the
 ///      material extents, and the failure flags (a failure on one rank stops every rank).
 ///   Diagnostics: each rank's totals (Solver::diagnostics), allgathered and summed in rank order.
