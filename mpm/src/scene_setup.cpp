@@ -140,7 +140,7 @@ common::Schema mpm_schema(const MaterialRegistry& reg) {
   s.add_choice("solver.shape", ShapeKind::ugimp, kShapeKinds, "interpolation: uGIMP (default) or classic linear MPM");
   s.add_choice("solver.scheme", Scheme::musl, kSchemes, "stress-update order");
   s.add_real("solver.flip", 1.0, "1", 0.0, 1.0, "FLIP fraction of the particle velocity update (1 = FLIP, 0 = PIC)");
-  s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(c + |v|)", true);
+  s.add_real("solver.courant", 0.3, "1", 0.0, 1.0, "Courant number C in dt = C h / max(s + |v|) (s: the signal speed, with the viscosity's where it acts)", true);
   s.add_real("solver.min_mass_fraction", 0.0, "1", 0.0, 1.0,
              "nodes lighter than this fraction of the smallest particle mass get no acceleration "
              "(0 = off, exact momentum conservation; uGIMP needs none, use ~1e-2 with linear shape functions)");

@@ -111,7 +111,7 @@ struct SolverConfig {
   ShapeKind shape = ShapeKind::ugimp;
   Scheme scheme = Scheme::musl;
   double flip = 1.0;                 ///< FLIP fraction alpha in [0,1]
-  double courant = 0.3;              ///< C in dt = C h / (c + |v|)
+  double courant = 0.3;              ///< C in dt = C h / (s + |v|), s the signal speed
   double dt_max = std::numeric_limits<double>::infinity();  ///< cap on dt [s]
   /// m_min = fraction * smallest particle mass; nodes with m <= m_min get no acceleration. Any
   /// m_min > 0 discards the force on those nodes, so momentum is then conserved only to ~1e-6.
@@ -176,7 +176,7 @@ struct Backup {
 struct SolverResume {
   double time = 0;
   std::int64_t step = 0;
-  double max_speed = 0;      ///< max (c + |v|) of the last update: the next stable_dt() [m/s]
+  double max_speed = 0;      ///< max (s + |v|) of the last update: the next stable_dt() [m/s]
   double min_node_mass = 0;  ///< m_min, fixed at construction from that run's particles [kg]
   ParticleSet outflow;       ///< the outflow record (core arrays at removal)
   std::vector<double> outflow_time;         ///< removal times [s]
@@ -328,7 +328,7 @@ class Solver {
   double h_min_ = 0, m_min_ = 0;
   double time_ = 0;
   std::int64_t step_ = 0;
-  double max_speed_ = 0;   ///< max (c + |v|) of the last update
+  double max_speed_ = 0;   ///< max (s + |v|) of the last update
   mutable bool dt_capped_ = false;
   BodyForce body_force_;
   std::vector<double> body_accel_;
