@@ -30,6 +30,7 @@ import re
 import shlex
 import subprocess
 import sys
+import tempfile
 
 import numpy as np
 
@@ -79,7 +80,9 @@ def render(pvbatch, kind, chosen, out, label):
     cmd = shlex.split(pvbatch) + [os.path.join(HERE, "render_cutaway.py"), "--kind", kind, "--out", out,
                                   "--label", label] + xmf + ["--times"] + [repr(t) for t, _ in chosen]
     for _ in range(3):  # xvfb-run -a occasionally loses the race for a display number: try again
-        r = subprocess.run(cmd, capture_output=True, text=True)
+        # pvbatch then aborts without Python's clean-up: the views' directory is removed here
+        with tempfile.TemporaryDirectory(dir=os.path.dirname(os.path.abspath(out))) as work:
+            r = subprocess.run(cmd + ["--workdir", work], capture_output=True, text=True)
         if r.returncode == 0 and os.path.isfile(out):
             break
     if r.returncode != 0 or not os.path.isfile(out):

@@ -1,7 +1,7 @@
 """3D cut-away renders of an impact run with ParaView (El Mir et al. 2019, Figs. 4 and 5).
 
     xvfb-run -a pvbatch render_cutaway.py --kind mpm|spheres --out FIG.png [--label TEXT] [--times T ...]
-        FILE.xmf [FILE.xmf ...]
+        [--workdir DIR] FILE.xmf [FILE.xmf ...]
 
 Each FILE.xmf is the XDMF sidecar of an mpm-frag particle snapshot (`--kind mpm`) or of an
 ssdem.spheres file (`--kind spheres`: the hand-off spheres and ssdem-grav snapshots). For each
@@ -20,8 +20,12 @@ file one 3D view is rendered and the views are put side by side into FIG.png:
     views share one length scale; escaping ejecta leave the frame).
 
 Run under pvbatch (Debian `paraview` + `python3-paraview`); needs an X display, hence xvfb-run.
+The views are drawn into --workdir (default: a temporary directory next to FIG.png). pvbatch aborts
+(SIGABRT, no Python clean-up) when xvfb-run loses the race for a display, so a caller that retries
+(figures.py) passes a directory it removes itself.
 """
 import argparse
+import contextlib
 import math
 import os
 import sys
@@ -167,6 +171,7 @@ def main(argv=None):
     ap.add_argument("--kind", choices=("mpm", "spheres"), required=True)
     ap.add_argument("--out", required=True)
     ap.add_argument("--label", default="", help="prefix of each panel's caption (e.g. 'after hand-off')")
+    ap.add_argument("--workdir", help="directory for the views (the caller removes it); default: a temporary one")
     ap.add_argument("--times", type=float, nargs="+",
                     help="the captions' times, one per file (default: each file's time attribute)")
     a = ap.parse_args(argv)
@@ -180,7 +185,8 @@ def main(argv=None):
     items = [load(f, a.kind) for f in a.files]
     dmax = max([float(np.max(it[4])) for it in items if it[4] is not None and it[4].size] + [0.0]) or 1.0
     lim = max(view_of(it)[1] for it in items)  # one scale for every view
-    with tempfile.TemporaryDirectory(dir=os.path.dirname(os.path.abspath(a.out))) as tmp:
+    with tempfile.TemporaryDirectory(dir=os.path.dirname(os.path.abspath(a.out))) if a.workdir is None \
+            else contextlib.nullcontext(a.workdir) as tmp:
         pngs = []
         for k, it in enumerate(items):
             tt = it[5] if a.times is None else a.times[k]

@@ -7,7 +7,8 @@
    plus one far, massive-looking ejecta sphere: the mass-weighted mean damage of each full shell
    equals the mass-weighted mean of r/R_T over its spheres (to 1e-12) and lies within half a shell
    width of the shell centre; the ejecta sphere does not move the centre.
-2. Cut-away render (Figs. 4, 5; only where pvbatch is installed, else exit 77 = skipped): a ball whose
+2. An aborting pvbatch (a lost xvfb display race) leaves no directory in the figures directory.
+3. Cut-away render (Figs. 4, 5; only where pvbatch is installed, else exit 77 = skipped): a ball whose
    quarter x > c_x, y > c_y carries damage 1 and the rest 0.5; with that quarter cut away, the views
    must show the 0.5 colour (Turbo: green) and none of the colour of damage 1 (dark red), and the PNG
    must hold one 700 x 640 view per input file side by side.
@@ -73,7 +74,43 @@ if abs(frac.sum() - (len(x) - 1) / len(x)) > 1e-12:
     fail(f"mass fractions in 0..1.5 R_T sum to {frac.sum()}, expected all but the ejecta")
 print("ok: damage profile of a ball with damage r/R_T")
 
-# 2. render
+# 2. a pvbatch that aborts (as it does when xvfb-run -a loses the race for a display: SIGABRT, no
+# Python clean-up) leaves no directory behind: figures.render gives each attempt a --workdir next to
+# the figure and removes it itself (before, every lost race left an empty tmp* in figures/)
+os.makedirs(work, exist_ok=True)
+figdir = os.path.join(work, "abort")
+shutil.rmtree(figdir, ignore_errors=True)
+os.makedirs(figdir)
+log = os.path.join(work, "abort.log")
+if os.path.exists(log):
+    os.remove(log)
+fake = os.path.join(work, "aborting_pvbatch.sh")
+with open(fake, "w") as f:
+    f.write(f"""#!/bin/sh
+while [ $# -gt 0 ]; do
+  if [ "$1" = --workdir ]; then echo "$2" >> {log}; touch "$2/panel_0.png"; fi
+  shift
+done
+kill -ABRT $$
+""")
+os.chmod(fake, 0o755)
+import figures  # noqa: E402
+
+try:
+    figures.render(fake, "spheres", [(0.0, os.path.join(work, "none.h5"))], os.path.join(figdir, "f.png"), "")
+    fail("figures.render returned after three aborted renders")
+except SystemExit as e:
+    if e.code != 3:
+        fail(f"figures.render exit {e.code} after three aborted renders, expected 3")
+given = open(log).read().split() if os.path.isfile(log) else []
+if len(given) != 3 or any(os.path.dirname(g) != figdir for g in given):
+    fail(f"work directories given to pvbatch: {given}, expected three in {figdir}")
+left = [n for n in os.listdir(figdir)]
+if left:
+    fail(f"left in the figures directory after aborted renders: {left}")
+print("ok: three aborted renders leave nothing behind")
+
+# 3. render
 pvbatch = shutil.which("pvbatch")
 xvfb = shutil.which("xvfb-run")
 if not pvbatch or not xvfb:
