@@ -137,3 +137,41 @@ TEST(PointUpdate, RejectsBadInput) {
   EXPECT_EQ(update_point(p, d, in, sig, st, 0, nullptr, nullptr, nullptr), UpdateStatus::bad_input);
   EXPECT_TRUE(sig.isZero());
 }
+
+// The time step's wave speed is the aggregate's: uniaxial-strain tangent d sigma_xx / d eps over
+// the aggregate density rho0/J, measured with the update itself at distended states (J_GP up to
+// the DART impactor's 504). Dividing the matrix moduli by rho0/J alone fails by sqrt(J_GP).
+TEST(PointUpdate, WaveSpeedIsTheAggregateTangentOfADistendedState) {
+  Params p = basalt_el_mir();
+  p.use_damage = p.use_granular = false;  // fixed J_GP: the elastic response of the aggregate
+  const Derived d(p);
+  for (const double JGP : {1.0, 1.25, 4.0, 504.0}) {
+    for (const double e : {0.0, 2e5}) {
+      PointState st;
+      st.JGP = JGP;
+      st.e = e;
+      const double J = JGP;  // J_EL = 1
+      // Hold one step first so the e-term of the pressure is in sigma before the strain step.
+      M3 sig = M3::Zero();
+      StepInput hold;
+      hold.dt = 1e-6;
+      hold.Jn = hold.Jnp1 = J;
+      ASSERT_EQ(update_point(p, d, hold, sig, st, 0, nullptr, nullptr, nullptr), UpdateStatus::ok);
+      const M3 sig0 = sig;
+      const double eps = 1e-7;
+      StepInput in;
+      in.dt = 1e-6;
+      in.L(0, 0) = eps / in.dt;
+      in.Jn = J;
+      in.Jnp1 = J * std::exp(eps);
+      ASSERT_EQ(update_point(p, d, in, sig, st, 0, nullptr, nullptr, nullptr), UpdateStatus::ok);
+      const double M_agg = (sig(0, 0) - sig0(0, 0)) / eps;
+      const double c_tangent = std::sqrt(M_agg / (p.density / J));
+      EXPECT_NEAR(wave_speed(p, J, JGP, e) / c_tangent, 1.0, 1e-3) << "J_GP " << JGP << " e " << e;
+    }
+  }
+  // Compressed matrix (J_EL = 0.9) of a distended point: c^2 = K_T(rho_s)/rho_s + 4G/(3 rho0).
+  const double KT = tillotson_tangent(p.eos, p.density, 1.0 / 0.9, 0.0);
+  const double c = std::sqrt(KT / (p.density / 0.9) + 4.0 / 3.0 * p.shear_modulus / p.density);
+  EXPECT_NEAR(wave_speed(p, 0.9 * 50.0, 50.0, 0.0) / c, 1.0, 1e-12);
+}

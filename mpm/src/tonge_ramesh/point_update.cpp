@@ -42,9 +42,11 @@ PointState initial_state(const Params& p, int nbins, const double* omega, const 
 }
 
 double wave_speed(const Params& p, double J, double JGP, double e) {
+  // Aggregate tangent at fixed J_GP (point_update.hpp): bulk ratio K_T / J_GP, shear G / J, over
+  // the aggregate density rho0 / J, i.e. K_T over the matrix density plus G over rho0.
   const double eta = JGP / J;
   const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
-  return std::sqrt((KT + 4.0 / 3.0 * p.shear_modulus) / (p.density / J));
+  return std::sqrt(KT / (p.density * eta) + 4.0 / 3.0 * p.shear_modulus / p.density);
 }
 
 UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in, M3& sigma,

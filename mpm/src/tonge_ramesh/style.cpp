@@ -123,7 +123,7 @@ class TongeRamesh final : public Material {
     b.wave_speed[k] = tr::wave_speed(p_, J, st.JGP, e);
     if (b.bulk_speed) {
       const double KT = std::max(tr::tillotson_tangent(p_.eos, p_.density, st.JGP / J, e), 0.1 * p_.eos.A);
-      b.bulk_speed[k] = std::sqrt(KT * tr::damaged_bulk(d_, st.D) / d_.K0 / (p_.density / J));
+      b.bulk_speed[k] = std::sqrt(KT * tr::damaged_bulk(d_, st.D) / d_.K0 / (p_.density * st.JGP / J));
     }
   }
   tr::Params p_;

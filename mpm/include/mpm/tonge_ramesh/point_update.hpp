@@ -29,7 +29,7 @@
 ///    (useOldStress = 0) is implemented.
 ///  * apex mean stress B/3 in one branch (§8): FIXED, B/sqrt3 in both (granular.hpp).
 ///  * PTR wave speed = 0 with damage on / rho0 with granular flow (§12): FIXED, wave_speed() uses
-///    the undamaged tangent K_T + 4G0/3 and the current bulk density (conservative).
+///    the undamaged aggregate tangent over the aggregate density (conservative; derivation below).
 ///  * Uintah wrapper passes J one increment ahead (§12): FIXED, J_n = J_{n+1}/det(I + L dt)
 ///    (style.cpp via mpmfrag::jacobian_old).
 ///  * PTR throws on non-converged inner iterations (§12): replaced by bounded iterations with
@@ -85,8 +85,14 @@ UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in
 /// Initial state after flaw sampling: D0 = sum omega s^3 (capped) if include_initial_damage.
 PointState initial_state(const Params& p, int nbins, const double* omega, const double* s);
 
-/// Longitudinal wave speed for the time step: sqrt((K_T(rho_s, e) + 4 G0/3)/rho), undamaged
-/// moduli (safe: damage only softens) and bulk density rho = rho0/J.
+/// Longitudinal wave speed for the time step, c^2 = K_T(rho_s, e)/rho_s + (4/3) G0/rho0, with
+/// undamaged moduli (safe: damage only softens) and the matrix density rho_s = rho0 J_GP/J.
+/// Derivation: the Cauchy mean stress is p_K(J_EL)/J (moduli.hpp), so at fixed J_GP its tangent
+/// d sigma_m / d ln J = ratio K_T / J_GP; the deviator G dev(be)/J has tangent 2 G I_el / J.
+/// Over the aggregate density rho0/J these give K_T J/(rho0 J_GP) = K_T/rho_s and G I_el/rho0
+/// (I_el ~ 1 + elastic strain, left out). The aggregate is as fast as its matrix: a distended
+/// (J_GP >> 1) granular cloud is soft and light in the same ratio. (Until 2026-12 this divided by
+/// rho0/J alone, which overstated c by sqrt(J_GP): 85 km/s at the DART impactor's J_GP = 504.)
 double wave_speed(const Params& p, double J, double JGP, double e);
 
 }  // namespace mpmfrag::tonge_ramesh
