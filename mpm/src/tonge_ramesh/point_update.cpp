@@ -49,6 +49,12 @@ double wave_speed(const Params& p, double J, double JGP, double e) {
   return std::sqrt(KT / (p.density * eta) + 4.0 / 3.0 * p.shear_modulus / p.density);
 }
 
+double bulk_speed(const Params& p, const Derived& d, double J, double JGP, double e, double D) {
+  const double eta = JGP / J;
+  const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
+  return std::sqrt(KT * damaged_bulk(d, D) / d.K0 / (p.density * eta));
+}
+
 UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in, M3& sigma,
                           PointState& st, int nbins, const double* omega, const double* s,
                           double* l, StepDiag* diag) {

@@ -121,10 +121,7 @@ class TongeRamesh final : public Material {
   void speeds(const MaterialBatch& b, std::size_t k, double J, const tr::PointState& st) const {
     const double e = std::max(b.energy[k], 0.0);
     b.wave_speed[k] = tr::wave_speed(p_, J, st.JGP, e);
-    if (b.bulk_speed) {
-      const double KT = std::max(tr::tillotson_tangent(p_.eos, p_.density, st.JGP / J, e), 0.1 * p_.eos.A);
-      b.bulk_speed[k] = std::sqrt(KT * tr::damaged_bulk(d_, st.D) / d_.K0 / (p_.density * st.JGP / J));
-    }
+    if (b.bulk_speed) b.bulk_speed[k] = tr::bulk_speed(p_, d_, J, st.JGP, e, st.D);
   }
   tr::Params p_;
   tr::Derived d_;

@@ -86,13 +86,24 @@ UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in
 PointState initial_state(const Params& p, int nbins, const double* omega, const double* s);
 
 /// Longitudinal wave speed for the time step, c^2 = K_T(rho_s, e)/rho_s + (4/3) G0/rho0, with
-/// undamaged moduli (safe: damage only softens) and the matrix density rho_s = rho0 J_GP/J.
+/// undamaged moduli (damage only softens) and the matrix density rho_s = rho0 J_GP/J.
 /// Derivation: the Cauchy mean stress is p_K(J_EL)/J (moduli.hpp), so at fixed J_GP its tangent
-/// d sigma_m / d ln J = ratio K_T / J_GP; the deviator G dev(be)/J has tangent 2 G I_el / J.
-/// Over the aggregate density rho0/J these give K_T J/(rho0 J_GP) = K_T/rho_s and G I_el/rho0
-/// (I_el ~ 1 + elastic strain, left out). The aggregate is as fast as its matrix: a distended
-/// (J_GP >> 1) granular cloud is soft and light in the same ratio. (Until 2026-12 this divided by
-/// rho0/J alone, which overstated c by sqrt(J_GP): 85 km/s at the DART impactor's J_GP = 504.)
+/// is d sigma_m / d ln J = ratio K_T / J_GP exactly; the deviator G dev(be)/J has the uniaxial
+/// tangent (4/3) G I_el / J up to a term of first order in the elastic deviatoric strain
+/// (<~1 % at yield; left out, within the Courant number's margin). Over the aggregate density
+/// rho0/J these give K_T/rho_s and (4/3) G/rho0: a distended (J_GP >> 1) granular aggregate is
+/// soft and light in the same ratio, so it is as fast as its matrix. Granular flow, P–alpha
+/// compaction and damage only lower the tangent, and where K_T < 0.1 A the floor raises it.
+/// K_T is taken at fixed e (the update's pressure uses e_n, so within a step the stiffness the
+/// scheme sees is K_T); the isentropic modulus of a hot shocked state is larger (about 2x at
+/// 56 GPa and 4.5 MJ/kg), a margin the Courant number 0.3 has not been shown to need: the
+/// impact outcome at 30 s changes by < 8 % for Courant numbers from 0.03 to 0.3 (mpm/README.md).
+/// Until 2026-12-05 this divided by rho0/J, which overstated c by ~sqrt(J): 101 km/s instead of
+/// 4.3 km/s for the DART impactor's particles at J = 587, J_GP = 504 (the measured 1.4e-5 s step).
 double wave_speed(const Params& p, double J, double JGP, double e);
+
+/// Bulk sound speed for the artificial viscosity, sqrt(ratio K_T / rho_s) with the damaged ratio
+/// K(D)/K0 (same derivation, volumetric part only).
+double bulk_speed(const Params& p, const Derived& d, double J, double JGP, double e, double D);
 
 }  // namespace mpmfrag::tonge_ramesh
