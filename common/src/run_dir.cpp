@@ -109,6 +109,7 @@ void RunDirectory::publish() {
     const std::string n = e.path().filename().string();
     if (!e.is_regular_file()) continue;
     if (n.size() > 8 && n.compare(n.size() - 8, 8, ".partial") == 0) continue;  // never published
+    if (n[0] == '.') continue;  // a writer's temporary (atomic_file.hpp), left by a kill: never published
     names.push_back(n);
   }
   // Nothing changes in dir unless every target can be replaced.

@@ -170,10 +170,17 @@ TEST_F(MpmRestart, SigkillAfterAPeriodicCheckpointRestartsBitIdenticallyOnTwoThr
   const pid_t pid = interrupt(out, "ck_checkpoint.h5", SIGKILL, {"output.checkpoint_every=40"}, &status);
   ASSERT_TRUE(WIFSIGNALED(status));
   const std::string ckpt = staging(out, pid) + "/ck_checkpoint.h5";
+  {  // what a writer killed mid-file leaves beside the checkpoint (atomic_file.cpp's temporary name)
+    std::ofstream junk(staging(out, pid) + "/.ck_000050.h5.tmp." + std::to_string(pid));
+    junk << "half an HDF5 file";
+  }
   const testutil::ToolResult r =
       mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set run.threads=2 --restart " + ckpt);
   ASSERT_EQ(r.rc, 0) << r.out;
   expect_same_run(ref_, out);
+  EXPECT_FALSE(fs::exists(staging(out, pid)));
+  for (const auto& e : fs::directory_iterator(out))  // the killed writer's temporary is not published
+    EXPECT_EQ(e.path().filename().string().find(".ck_"), std::string::npos) << e.path();
 }
 
 TEST_F(MpmRestart, CompletedRunContinuesToALaterEndFromItsPublishedCheckpoint) {

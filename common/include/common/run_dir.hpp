@@ -5,7 +5,9 @@
 ///   second run into a locked directory is refused (InputError, exit 2) naming the directory
 ///   and that pid. The kernel drops the lock when the process ends, however it ends.
 /// - Staging: the run writes every file into `<dir>/.staging-<pid>/`. publish() (called when
-///   the run completed, exit 0) renames each staged file into `<dir>`, then removes the files
+///   the run completed, exit 0) renames each staged file into `<dir>` (but hidden names: the
+///   temporaries of atomic writes that a killed run may have left in the staging directory a
+///   restart adopted, and `*.partial`, which are removed with it), then removes the files
 ///   of the previous run that this run did not produce (those listed in `<dir>/.run-manifest`,
 ///   or, for a directory written before manifests existed, those `is_output` accepts), writes
 ///   the new manifest and removes the staging directory and the staging directories of earlier
