@@ -8,7 +8,10 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <cerrno>
+#include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +25,7 @@ namespace fs = std::filesystem;
 namespace {
 constexpr const char* kLock = ".lock";
 constexpr const char* kManifest = ".run-manifest";
+constexpr const char* kJournal = ".publish-journal";  // a publish in progress: its staging directory, then its names
 constexpr const char* kStagingPrefix = ".staging-";
 
 std::string read_all(const std::string& path) {
@@ -112,6 +116,7 @@ void RunDirectory::publish() {
     if (n[0] == '.') continue;  // a writer's temporary (atomic_file.hpp), left by a kill: never published
     names.push_back(n);
   }
+  std::sort(names.begin(), names.end());  // a fixed order (tests interrupt after the first k)
   // Nothing changes in dir unless every target can be replaced.
   for (const auto& n : names) {
     std::error_code ec;
@@ -119,13 +124,37 @@ void RunDirectory::publish() {
     if (fs::exists(fs::symlink_status(to, ec)) && !fs::is_regular_file(fs::symlink_status(to, ec)))
       throw IoError(to.string() + ": cannot publish the run: the name is taken by something that is not a file");
   }
+  // A publish that was interrupted (killed between its renames) left its journal: the files it
+  // had moved are in dir already. If this run continues that run (it adopted the same staging
+  // directory), they are this run's; otherwise they are stale like the previous run's.
+  std::set<std::string> mine(names.begin(), names.end()), interrupted;
+  const std::string journal = (fs::path(dir_) / kJournal).string();
+  if (fs::exists(journal)) {
+    std::ifstream f(journal);
+    std::string owner;
+    std::getline(f, owner);
+    const bool ours = adopted_ && owner == fs::path(staging_).filename().string();
+    for (std::string l; std::getline(f, l);) {
+      std::error_code ec;
+      if (l.empty() || l.find('/') != std::string::npos || mine.count(l)) continue;
+      if (ours && fs::is_regular_file(fs::path(dir_) / l, ec)) mine.insert(l);
+      else if (!ours) interrupted.insert(l);
+    }
+  }
+  std::string text = fs::path(staging_).filename().string() + "\n";
+  for (const auto& n : mine) text += n + "\n";
+  write_text_atomic(journal, text);
+  // fault injection for the tests: SIGKILL after this many renames (SUITE_FAULT_PUBLISH_KILL_AFTER)
+  long kill_after = -1;
+  if (const char* e = std::getenv("SUITE_FAULT_PUBLISH_KILL_AFTER")) kill_after = std::strtol(e, nullptr, 10);
+  long renamed = 0;
   for (const auto& n : names) {
+    if (renamed++ == kill_after) std::raise(SIGKILL);
     const std::string from = staged(n), to = (fs::path(dir_) / n).string();
     if (std::rename(from.c_str(), to.c_str()) != 0)
       throw IoError(to + ": cannot rename " + from + " into place: " + std::strerror(errno));
   }
   // The previous run's files that this run did not produce.
-  const std::set<std::string> mine(names.begin(), names.end());
   const std::string manifest = (fs::path(dir_) / kManifest).string();
   std::vector<std::string> stale;
   if (fs::exists(manifest)) {
@@ -138,14 +167,17 @@ void RunDirectory::publish() {
       if (e.is_regular_file() && n[0] != '.' && !mine.count(n) && is_output_ && is_output_(n)) stale.push_back(n);
     }
   }
+  for (const auto& n : interrupted)
+    if (!mine.count(n)) stale.push_back(n);
   for (const auto& n : stale) {
     std::error_code ec;
     fs::remove(fs::path(dir_) / n, ec);
   }
-  std::string text;
-  for (const auto& n : names) text += n + "\n";
+  text.clear();
+  for (const auto& n : mine) text += n + "\n";
   write_text_atomic(manifest, text);
   std::error_code ec;
+  fs::remove(journal, ec);
   fs::remove_all(staging_, ec);
   // staging directories of earlier runs that never completed (nobody else can hold the lock)
   for (const auto& e : fs::directory_iterator(dir_, ec))

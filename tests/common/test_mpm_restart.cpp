@@ -183,6 +183,34 @@ TEST_F(MpmRestart, SigkillAfterAPeriodicCheckpointRestartsBitIdenticallyOnTwoThr
     EXPECT_EQ(e.path().filename().string().find(".ck_"), std::string::npos) << e.path();
 }
 
+// A run killed while it publishes (between its renames; SUITE_FAULT_PUBLISH_KILL_AFTER) into a
+// directory holding an earlier complete run: the restart from the checkpoint still in its staging
+// directory completes the publish without deleting what the interrupted publish had moved (the
+// earlier run's manifest lists the same names).
+TEST_F(MpmRestart, PublishKilledMidwayIsCompletedByTheRestart) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set material[1].density=1100.0").rc, 0);
+  setenv("SUITE_FAULT_PUBLISH_KILL_AFTER", "2", 1);  // the two files of the first snapshot are moved
+  const testutil::ToolResult k = mpm("--quiet --scene " + scene_ + " --set " + dir_set(out));
+  unsetenv("SUITE_FAULT_PUBLISH_KILL_AFTER");
+  ASSERT_NE(k.rc, 0) << k.out;
+  std::string stage;
+  for (const auto& e : fs::directory_iterator(out))
+    if (e.path().filename().string().rfind(".staging-", 0) == 0) stage = e.path().string();
+  ASSERT_FALSE(stage.empty());
+  ASSERT_FALSE(fs::exists(stage + "/ck_000000.h5"));  // moved before the kill
+  ASSERT_TRUE(fs::exists(stage + "/ck_checkpoint.h5"));
+  const testutil::ToolResult r =
+      mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --restart " + stage + "/ck_checkpoint.h5");
+  ASSERT_EQ(r.rc, 0) << r.out;
+  expect_same_run(ref_, out);
+  EXPECT_FALSE(fs::exists(stage));
+  EXPECT_FALSE(fs::exists(out + "/.publish-journal"));
+  const std::string manifest = slurp(out + "/.run-manifest");
+  EXPECT_NE(manifest.find("ck_000000.h5\n"), std::string::npos) << manifest;
+}
+
 TEST_F(MpmRestart, CompletedRunContinuesToALaterEndFromItsPublishedCheckpoint) {
   testutil::TempDir d;
   const std::string out = d.file("o");

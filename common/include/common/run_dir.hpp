@@ -18,6 +18,11 @@
 ///   checkpoint) stays in its staging directory, which the destructor names in a log line.
 /// - A restart may adopt the staging directory of the interrupted run it continues (the one
 ///   holding its checkpoint), so that run's snapshots and series become part of the new one.
+/// - A publish killed between its renames leaves `<dir>/.publish-journal` (its staging directory
+///   and names, written before the first rename; files are renamed in name order): the next
+///   publish counts the files it had moved as its own if it adopted that staging directory (a
+///   restart from the checkpoint still there), else as stale. Test hook:
+///   SUITE_FAULT_PUBLISH_KILL_AFTER=k raises SIGKILL after k renames.
 #pragma once
 #include <functional>
 #include <string>
