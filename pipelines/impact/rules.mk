@@ -64,6 +64,10 @@ define FRAGMENT_SETS
 endef
 
 TIMED = $(IMPACT_DIR)/timed.sh $(RUN)/timing
+# The two long stages continue an interrupted run from its checkpoint (resume.sh): rerunning the
+# same `make` after a kill, a full disk or the end of a session picks up where the stage stopped.
+# The tools publish a run's files only when it completes, so no stage directory is deleted first.
+RESUME = $(IMPACT_DIR)/resume.sh
 # ---- cluster runs ----
 # MPI_RANKS=N runs the fragment (mpm-frag) and reaccumulate (ssdem-grav) stages on N MPI ranks,
 # launched by MPI_LAUNCH (mpirun by default; on Slurm MPI_LAUNCH="srun -n"), with the tools of
@@ -129,8 +133,8 @@ $(RUN)/.dir:
 # 1. fragment: MPM with the Tonge-Ramesh model; final.h5 links the last snapshot; done lists every
 #    file (snapshots frag_<step>.h5 and, when material left the grid, frag_outflow.h5).
 $(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(BIN_MPM) $(call stage_incomplete,$(RUN)/fragment/done) | $(RUN)/.dir
-	rm -rf $(RUN)/fragment
-	$(TIMED_RANKS) fragment $(ON_RANKS) $(BIN_MPM) --scene $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
+	$(TIMED_RANKS) fragment $(RESUME) $(RUN)/fragment frag_checkpoint.h5 \
+	  $(ON_RANKS) $(BIN_MPM) --scene $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
 	cd $(RUN)/fragment && ln -sf $$(ls frag_[0-9]*.h5 | tail -n 1) final.h5
 	ls $(RUN)/fragment/frag_*.h5 > $@.tmp && mv $@.tmp $@
 impact-fragment: $(RUN)/fragment/done
@@ -143,8 +147,7 @@ impact-handoff: $(RUN)/spheres.h5
 
 # 3. reaccumulate: self-gravity + soft spheres for NBODY_TIME seconds; done lists the snapshots.
 $(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBODY) $(call stage_incomplete,$(RUN)/nbody/done)
-	rm -rf $(RUN)/nbody
-	$(TIMED_RANKS) reaccumulate $(ON_RANKS) $(BIN_NBODY) --scene $(NBODY_SCENE) \
+	$(TIMED_RANKS) reaccumulate $(RESUME) $(RUN)/nbody checkpoint.h5 $(ON_RANKS) $(BIN_NBODY) --scene $(NBODY_SCENE) \
 	  --set initial.file=$(RUN)/spheres.h5 --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
 	  --set output.directory=$(RUN)/nbody $(NBODY_SETS)
 	ls $(RUN)/nbody/snap_*.h5 > $@.tmp && mv $@.tmp $@
