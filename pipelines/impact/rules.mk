@@ -65,9 +65,12 @@ endef
 
 TIMED = $(IMPACT_DIR)/timed.sh $(RUN)/timing
 # The two long stages continue an interrupted run from its checkpoint (resume.sh): rerunning the
-# same `make` after a kill, a full disk or the end of a session picks up where the stage stopped.
-# The tools publish a run's files only when it completes, so no stage directory is deleted first.
+# same `make` after a kill, a full disk or the end of a session picks up where the stage stopped,
+# if nothing the stage depends on changed since that run started. The tools publish a run's files
+# only when it completes, so no stage directory is deleted first.
 RESUME = $(IMPACT_DIR)/resume.sh
+# mpm-frag's checkpoint: <output.prefix>_checkpoint.h5 (both scene families use prefix "frag")
+FRAGMENT_CHECKPOINT ?= frag_checkpoint.h5
 # ---- cluster runs ----
 # MPI_RANKS=N runs the fragment (mpm-frag) and reaccumulate (ssdem-grav) stages on N MPI ranks,
 # launched by MPI_LAUNCH (mpirun by default; on Slurm MPI_LAUNCH="srun -n"), with the tools of
@@ -133,7 +136,7 @@ $(RUN)/.dir:
 # 1. fragment: MPM with the Tonge-Ramesh model; final.h5 links the last snapshot; done lists every
 #    file (snapshots frag_<step>.h5 and, when material left the grid, frag_outflow.h5).
 $(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(BIN_MPM) $(call stage_incomplete,$(RUN)/fragment/done) | $(RUN)/.dir
-	$(TIMED_RANKS) fragment $(RESUME) $(RUN)/fragment frag_checkpoint.h5 \
+	$(TIMED_RANKS) fragment $(RESUME) $(RUN)/fragment $(FRAGMENT_CHECKPOINT) $(filter-out FORCE,$^) -- \
 	  $(ON_RANKS) $(BIN_MPM) --scene $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
 	cd $(RUN)/fragment && ln -sf $$(ls frag_[0-9]*.h5 | tail -n 1) final.h5
 	ls $(RUN)/fragment/frag_*.h5 > $@.tmp && mv $@.tmp $@
@@ -147,7 +150,8 @@ impact-handoff: $(RUN)/spheres.h5
 
 # 3. reaccumulate: self-gravity + soft spheres for NBODY_TIME seconds; done lists the snapshots.
 $(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBODY) $(call stage_incomplete,$(RUN)/nbody/done)
-	$(TIMED_RANKS) reaccumulate $(RESUME) $(RUN)/nbody checkpoint.h5 $(ON_RANKS) $(BIN_NBODY) --scene $(NBODY_SCENE) \
+	$(TIMED_RANKS) reaccumulate $(RESUME) $(RUN)/nbody checkpoint.h5 $(filter-out FORCE,$^) -- \
+	  $(ON_RANKS) $(BIN_NBODY) --scene $(NBODY_SCENE) \
 	  --set initial.file=$(RUN)/spheres.h5 --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
 	  --set output.directory=$(RUN)/nbody $(NBODY_SETS)
 	ls $(RUN)/nbody/snap_*.h5 > $@.tmp && mv $@.tmp $@
