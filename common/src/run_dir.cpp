@@ -63,6 +63,7 @@ RunDirectory::RunDirectory(const std::string& dir, std::string tool, std::functi
   } else {
     staging_ = (fs::path(dir_) / (kStagingPrefix + std::to_string(::getpid()))).string();
     fs::remove_all(staging_, ec);  // a dead run's, with our pid
+    disown_journal();
     fs::create_directory(staging_, ec);
     if (ec) throw IoError(staging_ + ": cannot create the staging directory: " + ec.message());
   }
@@ -81,11 +82,31 @@ RunDirectory::~RunDirectory() {
   if (lock_fd_ >= 0) ::close(lock_fd_);  // releases the flock
 }
 
+// A dead run's interrupted publish, recorded under the staging name a fresh run now reuses (the
+// same pid): its names become foreign ("-"), so that a later restart of this run cannot take them.
+void RunDirectory::disown_journal() const {
+  const std::string journal = (fs::path(dir_) / kJournal).string();
+  std::ifstream f(journal);
+  std::string owner;
+  if (!f || !std::getline(f, owner) || owner != fs::path(staging_).filename().string()) return;
+  std::string text = "-\n";
+  for (std::string l; std::getline(f, l);)
+    if (l.size() > 1) {
+      text += '-';
+      text.append(l, 1, std::string::npos);
+      text += '\n';
+    }
+  write_text_atomic(journal, text);
+}
+
 std::string RunDirectory::staged(const std::string& name) const { return (fs::path(staging_) / name).string(); }
 
 bool RunDirectory::carry(const std::string& name) {
   const fs::path from = fs::path(dir_) / name, to = fs::path(staging_) / name;
   std::error_code ec;
+  if (fs::exists(fs::path(dir_) / kJournal, ec))  // carrying is for continuing a complete run
+    throw InputError(dir_ + ": its last publish was interrupted (" + kJournal + "), so its files are not one run; "
+                     "restart from the checkpoint in that run's staging directory or run from the start");
   if (!fs::is_regular_file(from, ec)) return false;
   fs::remove(to, ec);
   fs::create_hard_link(from, to, ec);
@@ -116,7 +137,12 @@ void RunDirectory::publish() {
     if (n[0] == '.') continue;  // a writer's temporary (atomic_file.hpp), left by a kill: never published
     names.push_back(n);
   }
-  std::sort(names.begin(), names.end());  // a fixed order (tests interrupt after the first k)
+  // A fixed order (tests interrupt after the first k), checkpoints last: a publish killed midway
+  // leaves the checkpoint in the staging directory, so the run can still be continued there.
+  std::sort(names.begin(), names.end(), [](const std::string& a, const std::string& b) {
+    const bool ca = a.find("checkpoint") != std::string::npos, cb = b.find("checkpoint") != std::string::npos;
+    return ca != cb ? cb : a < b;
+  });
   // Nothing changes in dir unless every target can be replaced.
   for (const auto& n : names) {
     std::error_code ec;
@@ -125,8 +151,9 @@ void RunDirectory::publish() {
       throw IoError(to.string() + ": cannot publish the run: the name is taken by something that is not a file");
   }
   // A publish that was interrupted (killed between its renames) left its journal: the files it
-  // had moved are in dir already. If this run continues that run (it adopted the same staging
-  // directory), they are this run's; otherwise they are stale like the previous run's.
+  // had moved ("+" lines) are in dir already. If this run continues that run (it adopted the same
+  // staging directory), they are this run's; otherwise they are stale like the previous run's.
+  // Names an interrupted publish had inherited as stale ("-" lines) stay stale.
   std::set<std::string> mine(names.begin(), names.end()), interrupted;
   const std::string journal = (fs::path(dir_) / kJournal).string();
   if (fs::exists(journal)) {
@@ -136,17 +163,24 @@ void RunDirectory::publish() {
     const bool ours = adopted_ && owner == fs::path(staging_).filename().string();
     for (std::string l; std::getline(f, l);) {
       std::error_code ec;
-      if (l.empty() || l.find('/') != std::string::npos || mine.count(l)) continue;
-      if (ours && fs::is_regular_file(fs::path(dir_) / l, ec)) mine.insert(l);
-      else if (!ours) interrupted.insert(l);
+      if (l.size() < 2 || (l[0] != '+' && l[0] != '-')) continue;
+      const std::string n = l.substr(1);
+      if (n.find('/') != std::string::npos || n[0] == '.' || mine.count(n)) continue;
+      if (ours && l[0] == '+' && fs::is_regular_file(fs::path(dir_) / n, ec)) mine.insert(n);
+      else if (!ours || l[0] == '-') interrupted.insert(n);
     }
   }
+  for (const auto& n : mine) interrupted.erase(n);
   std::string text = fs::path(staging_).filename().string() + "\n";
-  for (const auto& n : mine) text += n + "\n";
+  for (const auto& n : mine) text.append("+").append(n).append("\n");
+  for (const auto& n : interrupted) text.append("-").append(n).append("\n");
   write_text_atomic(journal, text);
-  // fault injection for the tests: SIGKILL after this many renames (SUITE_FAULT_PUBLISH_KILL_AFTER)
+  // fault injection for the tests: SIGKILL after this many renames (SUITE_FAULT_PUBLISH_KILL_AFTER,
+  // digits only; anything else is ignored)
   long kill_after = -1;
-  if (const char* e = std::getenv("SUITE_FAULT_PUBLISH_KILL_AFTER")) kill_after = std::strtol(e, nullptr, 10);
+  if (const char* e = std::getenv("SUITE_FAULT_PUBLISH_KILL_AFTER");
+      e && *e && std::strspn(e, "0123456789") == std::strlen(e))
+    kill_after = std::strtol(e, nullptr, 10);
   long renamed = 0;
   for (const auto& n : names) {
     if (renamed++ == kill_after) std::raise(SIGKILL);
@@ -167,8 +201,7 @@ void RunDirectory::publish() {
       if (e.is_regular_file() && n[0] != '.' && !mine.count(n) && is_output_ && is_output_(n)) stale.push_back(n);
     }
   }
-  for (const auto& n : interrupted)
-    if (!mine.count(n)) stale.push_back(n);
+  for (const auto& n : interrupted) stale.push_back(n);
   for (const auto& n : stale) {
     std::error_code ec;
     fs::remove(fs::path(dir_) / n, ec);

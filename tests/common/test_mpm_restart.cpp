@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,18 @@ std::map<std::string, std::string> contents(const std::string& dir) {
   std::map<std::string, std::string> m;
   for (const auto& e : fs::directory_iterator(dir))
     if (e.is_regular_file() && e.path().filename() != ".lock") m[e.path().filename().string()] = slurp(e.path().string());
+  return m;
+}
+/// The published (not hidden) file names of a run directory, and its manifest as a run would write it.
+std::set<std::string> visible_names(const std::string& dir) {
+  std::set<std::string> n;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.is_regular_file() && e.path().filename().string()[0] != '.') n.insert(e.path().filename().string());
+  return n;
+}
+std::string manifest_of(const std::string& dir) {
+  std::string m;
+  for (const auto& n : visible_names(dir)) m += n + "\n";
   return m;
 }
 std::string staging(const std::string& dir, pid_t pid) { return dir + "/.staging-" + std::to_string(pid); }
@@ -207,8 +220,43 @@ TEST_F(MpmRestart, PublishKilledMidwayIsCompletedByTheRestart) {
   expect_same_run(ref_, out);
   EXPECT_FALSE(fs::exists(stage));
   EXPECT_FALSE(fs::exists(out + "/.publish-journal"));
-  const std::string manifest = slurp(out + "/.run-manifest");
-  EXPECT_NE(manifest.find("ck_000000.h5\n"), std::string::npos) << manifest;
+  EXPECT_EQ(visible_names(out), visible_names(ref_));  // nothing of the earlier run is left
+  EXPECT_EQ(slurp(out + "/.run-manifest"), manifest_of(ref_));
+}
+
+// Publishes killed twice in a row by fresh runs that do not continue each other (three snapshot
+// intervals, so each run writes other names): the run that completes leaves exactly its own files,
+// none of the two interrupted publishes' nor of the complete run before them.
+TEST_F(MpmRestart, PublishesKilledTwiceThenAFreshRunLeavesOnlyItsFiles) {
+  testutil::TempDir d;
+  const std::string out = d.file("o"), solo = d.file("solo");
+  const std::string tend = " --set time.end=1e-4";
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + tend + " --set output.snapshot_interval=1e-5").rc, 0);
+  for (const char* k : {"3", "1"}) {  // the first moves 3 files, the second 1
+    setenv("SUITE_FAULT_PUBLISH_KILL_AFTER", k, 1);
+    const std::string interval = std::string(k) == "3" ? "2e-5" : "3e-5";
+    const testutil::ToolResult r =
+        mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + tend + " --set output.snapshot_interval=" + interval);
+    unsetenv("SUITE_FAULT_PUBLISH_KILL_AFTER");
+    ASSERT_NE(r.rc, 0) << r.out;
+    ASSERT_TRUE(fs::exists(out + "/.publish-journal"));
+  }
+  const std::string last = tend + " --set output.snapshot_interval=4e-5";
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + last).rc, 0);
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(solo) + last).rc, 0);
+  EXPECT_EQ(visible_names(out), visible_names(solo));
+  EXPECT_FALSE(fs::exists(out + "/.publish-journal"));
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_NE(e.path().filename().string().rfind(".staging-", 0), 0u) << e.path();
+  // continuing a published run is refused while a publish is unfinished (its files are not one run)
+  setenv("SUITE_FAULT_PUBLISH_KILL_AFTER", "1", 1);
+  ASSERT_NE(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + tend).rc, 0);
+  unsetenv("SUITE_FAULT_PUBLISH_KILL_AFTER");
+  const testutil::ToolResult c =
+      mpm("--scene " + scene_ + " --set " + dir_set(out) + " --set output.snapshot_interval=4e-5 --restart " + out +
+          "/ck_checkpoint.h5");
+  EXPECT_EQ(c.rc, 2) << c.out;
+  EXPECT_NE(c.out.find("its last publish was interrupted"), std::string::npos) << c.out;
 }
 
 TEST_F(MpmRestart, CompletedRunContinuesToALaterEndFromItsPublishedCheckpoint) {

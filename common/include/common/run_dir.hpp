@@ -14,14 +14,18 @@
 ///   runs that never completed. `<dir>` thus holds exactly one complete run, plus files that
 ///   no run wrote (a pipeline's links, a scene file).
 /// - A run that does not reach publish() (numerical failure, I/O failure, signal, crash) leaves
-///   `<dir>` exactly as the previous run left it; its own output (series, failed state,
-///   checkpoint) stays in its staging directory, which the destructor names in a log line.
+///   `<dir>` exactly as the previous run left it (a kill inside publish(): see below); its own
+///   output (series, failed state, checkpoint) stays in its staging directory, which the
+///   destructor names in a log line.
 /// - A restart may adopt the staging directory of the interrupted run it continues (the one
 ///   holding its checkpoint), so that run's snapshots and series become part of the new one.
-/// - A publish killed between its renames leaves `<dir>/.publish-journal` (its staging directory
-///   and names, written before the first rename; files are renamed in name order): the next
-///   publish counts the files it had moved as its own if it adopted that staging directory (a
-///   restart from the checkpoint still there), else as stale. Test hook:
+/// - A publish killed between its renames (a window of milliseconds) leaves `<dir>` holding part
+///   of the new run beside the rest of the previous one, and `<dir>/.publish-journal` (its staging
+///   directory, the names it publishes, and names it had inherited as stale; written before the
+///   first rename; files are renamed in name order, checkpoints last, so the checkpoint is still
+///   in the staging directory). The next publish completes it: it counts the files already moved
+///   as its own if it adopted that staging directory (a restart from that checkpoint), else as
+///   stale, and removes the previous run's leftovers either way. Test hook:
 ///   SUITE_FAULT_PUBLISH_KILL_AFTER=k raises SIGKILL after k renames.
 #pragma once
 #include <functional>
@@ -45,7 +49,8 @@ class RunDirectory {
   /// `<staging>/<name>`.
   std::string staged(const std::string& name) const;
   /// Hard-link (or copy) `<dir>/<name>` into the staging directory, so a continued run
-  /// publishes it again. Returns false if there is no such file. Throws IoError.
+  /// publishes it again. Returns false if there is no such file. Throws IoError; InputError if
+  /// `<dir>`'s last publish was interrupted (its files are not one run).
   bool carry(const std::string& name);
   /// The staging directory of `dir` that `path` lies in (directly), or "".
   static std::string staging_of(const std::string& dir, const std::string& path);
@@ -55,6 +60,7 @@ class RunDirectory {
   bool published() const { return published_; }
 
  private:
+  void disown_journal() const;
   std::string dir_, tool_, staging_;
   std::function<bool(const std::string&)> is_output_;
   int lock_fd_ = -1;
