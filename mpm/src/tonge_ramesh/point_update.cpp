@@ -41,18 +41,23 @@ PointState initial_state(const Params& p, int nbins, const double* omega, const 
   return st;
 }
 
+namespace {
+// K_T / rho_s of the matrix at eta = J_GP/J (K_T floored at 0.1 A): the undamaged bulk part of c^2.
+double bulk_c2(const Params& p, double J, double JGP, double e) {
+  const double eta = JGP / J;
+  const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
+  return KT / (p.density * eta);
+}
+}  // namespace
+
 double wave_speed(const Params& p, double J, double JGP, double e) {
   // Aggregate tangent at fixed J_GP (point_update.hpp): bulk ratio K_T / J_GP, shear G / J, over
   // the aggregate density rho0 / J, i.e. K_T over the matrix density plus G over rho0.
-  const double eta = JGP / J;
-  const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
-  return std::sqrt(KT / (p.density * eta) + 4.0 / 3.0 * p.shear_modulus / p.density);
+  return std::sqrt(bulk_c2(p, J, JGP, e) + 4.0 / 3.0 * p.shear_modulus / p.density);
 }
 
 double bulk_speed(const Params& p, const Derived& d, double J, double JGP, double e, double D) {
-  const double eta = JGP / J;
-  const double KT = std::max(tillotson_tangent(p.eos, p.density, eta, e), 0.1 * p.eos.A);
-  return std::sqrt(KT * damaged_bulk(d, D) / d.K0 / (p.density * eta));
+  return std::sqrt(bulk_c2(p, J, JGP, e) * (damaged_bulk(d, D) / d.K0));
 }
 
 UpdateStatus update_point(const Params& p, const Derived& d, const StepInput& in, M3& sigma,
