@@ -20,23 +20,23 @@ std::string num(double v) {
 
 // Every component finite and |value| <= hi (per component, or the norm of each row of `width`).
 void check_range(const std::vector<double>& v, std::size_t width, bool norm, double lo, double hi,
-                 const std::string& file, const std::string& dataset, const std::string& unit) {
+                 const std::string& file, const std::string& dataset, const std::string& unit, std::size_t row0 = 0) {
   const std::size_t rows = width ? v.size() / width : 0;
   for (std::size_t i = 0; i < rows; ++i) {
     double m = 0;  // the magnitude, without overflow (std::hypot)
     for (std::size_t k = 0; k < width; ++k) {
       const double x = v[i * width + k];
       if (!std::isfinite(x))
-        throw InputError(file, dataset, "value " + num(x) + " at index " + std::to_string(i) + " is not finite");
+        throw InputError(file, dataset, "value " + num(x) + " at index " + std::to_string(row0 + i) + " is not finite");
       if (!norm && !(x >= lo && x <= hi))
         throw InputError(file, dataset,
-                         "value " + num(x) + " " + unit + " at index " + std::to_string(i) + " is outside the allowed range [" +
+                         "value " + num(x) + " " + unit + " at index " + std::to_string(row0 + i) + " is outside the allowed range [" +
                              num(lo) + ", " + num(hi) + "] " + unit);
       m = std::hypot(m, x);
     }
     if (norm && m > hi)
       throw InputError(file, dataset,
-                       "magnitude " + num(m) + " " + unit + " at index " + std::to_string(i) +
+                       "magnitude " + num(m) + " " + unit + " at index " + std::to_string(row0 + i) +
                            " exceeds the allowed maximum " + num(hi) + " " + unit);
   }
 }
@@ -51,13 +51,13 @@ void check_input_particles(const ParticleSnapshot& s, const std::string& file) {
   check_range(s.size, 3, false, 0, kMaxLength, file, "/particles/size", "m");
 }
 
-void check_input_spheres(const SphereSet& s, const std::string& file, const std::string& group) {
+void check_input_spheres(const SphereSet& s, const std::string& file, const std::string& group, std::size_t row0) {
   using namespace bounds;
-  check_range(s.position, 3, false, -kMaxLength, kMaxLength, file, group + "position", "m");
-  check_range(s.velocity, 3, true, 0, kMaxSpeed, file, group + "velocity", "m/s");
-  check_range(s.spin, 3, true, 0, kMaxAngularVelocity, file, group + "spin", "rad/s");
-  check_range(s.mass, 1, false, 0, kMaxMass, file, group + "mass", "kg");
-  check_range(s.radius, 1, false, 0, kMaxLength, file, group + "radius", "m");
+  check_range(s.position, 3, false, -kMaxLength, kMaxLength, file, group + "position", "m", row0);
+  check_range(s.velocity, 3, true, 0, kMaxSpeed, file, group + "velocity", "m/s", row0);
+  check_range(s.spin, 3, true, 0, kMaxAngularVelocity, file, group + "spin", "rad/s", row0);
+  check_range(s.mass, 1, false, 0, kMaxMass, file, group + "mass", "kg", row0);
+  check_range(s.radius, 1, false, 0, kMaxLength, file, group + "radius", "m", row0);
 }
 
 void require_finite(const double* data, std::size_t n, const std::string& what, const std::string& name) {

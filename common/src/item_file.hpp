@@ -23,15 +23,16 @@ inline void check_size(const char* what, std::size_t got, std::size_t n, std::si
                                    std::to_string(n * ncomp));
 }
 
-/// Reader side: all values finite (and > 0 if `positive`), else InputError naming the row.
+/// Reader side: all values finite (and > 0 if `positive`), else InputError naming the row (the
+/// file row: v holds rows row0, row0 + 1, ...).
 inline void check_values(const std::string& file, const std::string& path,
-                         const std::vector<double>& v, std::size_t ncomp, bool positive) {
+                         const std::vector<double>& v, std::size_t ncomp, bool positive, std::size_t row0 = 0) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i]))
       throw InputError(file, path, "non-finite value (NaN or Inf) at row " + std::to_string(i / ncomp));
     if (positive && !(v[i] > 0.0))
       throw InputError(file, path, "non-positive value " + std::to_string(v[i]) + " at row " +
-                                       std::to_string(i / ncomp) + " (must be > 0)");
+                                       std::to_string(row0 + i / ncomp) + " (must be > 0)");
   }
 }
 
@@ -104,9 +105,11 @@ inline void write_fields(hid_t g, const std::vector<Field>& fields, std::size_t 
 
 /// Every member of `g` not in `skip` must be a float64 dataset of shape (n,) or (n, k>=2): it is
 /// read as an optional field. Anything else (another dtype, a group, a wrong shape) is an
-/// InputError naming the dataset: the whole group is checked against the contract.
+/// InputError naming the dataset: the whole group is checked against the contract. With `range`,
+/// rows [range->offset, range->offset + range->count) of the n only (the same checks).
 std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const std::string& file,
-                               std::size_t n, const std::vector<std::string>& skip);
+                               std::size_t n, const std::vector<std::string>& skip,
+                               const h5::RowRange* range = nullptr);
 
 inline std::vector<XdmfAttribute> field_attributes(const std::string& group, const std::vector<Field>& fields) {
   std::vector<XdmfAttribute> a;

@@ -14,7 +14,7 @@ namespace common {
 
 namespace detail {
 std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const std::string& file,
-                               std::size_t n, const std::vector<std::string>& skip) {
+                               std::size_t n, const std::vector<std::string>& skip, const h5::RowRange* range) {
   std::vector<Field> out;
   std::vector<std::string> names;
   auto collect = [](hid_t, const char* name, const H5L_info_t*, void* op) -> herr_t {
@@ -38,9 +38,10 @@ std::vector<Field> read_fields(hid_t f, hid_t g, const std::string& group, const
     Field fl;
     fl.name = nm;
     fl.ncomp = ncomp;
-    fl.values = h5::read_doubles(f, full, static_cast<long long>(n), ncomp, file);
+    fl.values = range ? h5::read_doubles(f, full, static_cast<long long>(n), ncomp, file, *range)
+                      : h5::read_doubles(f, full, static_cast<long long>(n), ncomp, file);
     fl.unit = h5::unit_of(g, nm);
-    check_values(file, full, fl.values, ncomp, false);
+    check_values(file, full, fl.values, ncomp, false, range ? range->offset : 0);
     out.push_back(std::move(fl));
   }
   return out;

@@ -87,7 +87,9 @@ void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t 
   write_text_atomic(xdmf_path_for(path), xdmf_text_spatial("spheres_and_bonds", {grid, lines}));
 }
 
-SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
+namespace {
+// read_sphere_set, or with `range` the rows of one block (read_sphere_rows).
+SphereSet read_spheres(const std::string& path, const H5Hook& extra, const h5::RowRange* range) {
   using namespace detail;
   h5::Handle f = h5::open_file_read(path);
   SphereSet s;
@@ -97,23 +99,42 @@ SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) {
   long long n = -1;
   s.for_each_array([&](const SphereArray& a, auto& v) {
     const std::string p = std::string("/spheres/") + a.name;
+    if (n < 0 && range) n = static_cast<long long>(h5::shape(f, p, path).at(0));
     if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, std::uint64_t>)
-      v = h5::read_u64(f, p, n, a.width, path);
+      v = range ? h5::read_u64(f, p, n, a.width, path, *range) : h5::read_u64(f, p, n, a.width, path);
     else
-      v = h5::read_doubles(f, p, n, a.width, path);
+      v = range ? h5::read_doubles(f, p, n, a.width, path, *range) : h5::read_doubles(f, p, n, a.width, path);
     if (n < 0) n = static_cast<long long>(v.size() / a.width);
   });
-  check_unique_ids(path, "/spheres/id", s.id);
+  if (!range) check_unique_ids(path, "/spheres/id", s.id);
   std::vector<std::string> core;
   s.for_each_array([&](const SphereArray& a, const auto& v) {
     core.push_back(a.name);
     if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, double>)
-      check_values(path, "/spheres/" + core.back(), v, a.width, a.positive);
+      check_values(path, "/spheres/" + core.back(), v, a.width, a.positive, range ? range->offset : 0);
   });
-  s.fields = read_fields(f, g, "/spheres", path, s.id.size(), core);
-  s.bonds = read_bonds(f, path, s.id);
+  s.fields = read_fields(f, g, "/spheres", path, static_cast<std::size_t>(n), core, range);
+  if (!range) s.bonds = read_bonds(f, path, s.id);
   if (extra) extra(f);
   return s;
+}
+}  // namespace
+
+SphereSet read_sphere_set(const std::string& path, const H5Hook& extra) { return read_spheres(path, extra, nullptr); }
+
+SphereSet read_sphere_rows(const std::string& path, const h5::RowRange& range, const H5Hook& extra) {
+  return read_spheres(path, extra, &range);
+}
+
+SphereFileShape sphere_file_shape(const std::string& path) {
+  using namespace detail;
+  h5::Handle f = h5::open_file_read(path);
+  double time = 0;
+  std::int64_t step = 0;
+  read_header(f, path, kSphereFormat, kSphereFormatVersion, time, step);
+  const std::vector<hsize_t> d = h5::shape(f, "/spheres/id", path);
+  if (d.size() != 1) throw InputError(path, "/spheres/id", "wrong shape: expected (N,)");
+  return SphereFileShape{static_cast<std::size_t>(d[0]), h5::exists(f, "/bonds")};
 }
 
 }  // namespace common

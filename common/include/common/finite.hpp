@@ -40,7 +40,8 @@ inline constexpr double kMaxGeneratedSpheres = 1e8;  ///< spheres a generator ma
 void check_input_particles(const ParticleSnapshot& s, const std::string& file);
 /// The same for a sphere file (positions, velocities, spins, masses, radii); `group` prefixes the
 /// array names in messages ("" for files without HDF5 groups, e.g. .ss).
-void check_input_spheres(const SphereSet& s, const std::string& file, const std::string& group = "/spheres/");
+void check_input_spheres(const SphereSet& s, const std::string& file, const std::string& group = "/spheres/",
+                         std::size_t row0 = 0);
 
 /// Check values about to be written to `path` are finite, including the kinetic energy sum
 /// 1/2 m v^2 (and the rotational energy for spheres). Throws NumericalError naming the path,

@@ -103,5 +103,16 @@ void write_sphere_xdmf(const std::string& path, const SphereSet& s, std::size_t 
 /// Validates like read_particle_snapshot, plus positive radius and finite spin, and /bonds if
 /// present (read_bonds: ids, ranges; InputError naming file, dataset and range).
 SphereSet read_sphere_set(const std::string& path, const H5Hook& extra = {});
+/// Rows [range.offset, range.offset + range.count) of a sphere file: one MPI rank's block, so that
+/// no rank reads the whole file. The checks of read_sphere_set on those rows, except two that
+/// span all rows and are the caller's: unique ids (across the blocks) and /bonds (not read).
+SphereSet read_sphere_rows(const std::string& path, const h5::RowRange& range, const H5Hook& extra = {});
+/// A sphere file's sphere count (the rows of /spheres/id) and whether it holds /bonds, from its
+/// header and dataset shapes (no rows read).
+struct SphereFileShape {
+  std::size_t count = 0;
+  bool bonds = false;
+};
+SphereFileShape sphere_file_shape(const std::string& path);
 
 }  // namespace common
