@@ -30,34 +30,24 @@ DtAdvice choose_kn_dt(double m, double s, double vmax, double en, double overlap
   return a;
 }
 
-double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool walls) {
-  if (sp.size() == 0) return INFINITY;
-  double m1 = INFINITY, m2 = INFINITY;  // two smallest masses
-  for (double m : sp.m) {
-    if (m < m1) {
-      m2 = m1;
-      m1 = m;
-    } else if (m < m2) {
-      m2 = m;
-    }
-  }
-  double smax = 0.0;
-  for (double s : sp.s) smax = std::max(smax, s);
+double shortest_contact_time(const ContactParams& p, const SphereSummary& s, bool walls) {
+  if (s.n == 0) return INFINITY;
   // Hertz: the time falls with the reduced radius; take the largest (conservative)
-  double tau = std::isfinite(m2) ? p.contact_time(m1 * m2 / (m1 + m2), 0.5 * smax) : INFINITY;
-  if (walls) tau = std::min(tau, p.contact_time(m1, smax));
+  double tau = std::isfinite(s.m2) ? p.contact_time(s.m1 * s.m2 / (s.m1 + s.m2), 0.5 * s.smax) : INFINITY;
+  if (walls) tau = std::min(tau, p.contact_time(s.m1, s.smax));
   return tau;
 }
 
-double median_contact_time(const ContactParams& p, const Spheres& sp) {
-  if (sp.size() < 2) return INFINITY;
-  std::vector<double> m = sp.m;
-  std::nth_element(m.begin(), m.begin() + m.size() / 2, m.end());  // upper median
-  const double mm = m[m.size() / 2];
-  double smax = 0.0;
-  for (double s : sp.s) smax = std::max(smax, s);
-  return p.contact_time(0.5 * mm, 0.5 * smax);
+double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool walls) {
+  return shortest_contact_time(p, summarise(sp), walls);
 }
+
+double median_contact_time(const ContactParams& p, const SphereSummary& s) {
+  if (s.n < 2) return INFINITY;
+  return p.contact_time(0.5 * s.m_median, 0.5 * s.smax);
+}
+
+double median_contact_time(const ContactParams& p, const Spheres& sp) { return median_contact_time(p, summarise(sp)); }
 
 int anchored_levels(double tau_ref, double tau_min) {
   if (!(tau_ref > tau_min) || !std::isfinite(tau_ref)) return -1;
@@ -67,7 +57,11 @@ int anchored_levels(double tau_ref, double tau_min) {
 }
 
 void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps) {
-  const double tau = shortest_contact_time(p, sp, walls);
+  check_dt(p, summarise(sp), walls, dt, min_steps);
+}
+
+void check_dt(const ContactParams& p, const SphereSummary& s, bool walls, double dt, double min_steps) {
+  const double tau = shortest_contact_time(p, s, walls);
   if (!std::isfinite(tau)) return;
   if (dt * min_steps > tau * (1.0 + 1e-9)) {  // a dt of exactly tau/min_steps is accepted
     std::ostringstream os;

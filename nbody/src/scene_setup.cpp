@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/finite.hpp"
 #include "common/rng.hpp"
@@ -246,8 +247,20 @@ Spheres initial_spheres(const common::Scene& sc, BondSet* file_bonds) {
   return sp;
 }
 
+std::string block_input_file(const common::Scene& sc) {
+  if (sc.choice("initial.source", kInitialSources) != InitialSource::file || sc.boolean("bonds.generate")) return {};
+  const std::string f = sc.string("initial.file");
+  if (f.empty() || common::sphere_file_shape(f).bonds) return {};
+  return f;
+}
+
 SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* info, const BondSet* file_bonds,
                      const std::string& checkpoint) {
+  return sim_config(sc, summarise(sp), &sp, info, file_bonds, checkpoint);
+}
+
+SimConfig sim_config(const common::Scene& sc, const SphereSummary& sum, const Spheres* all, std::string* info,
+                     const BondSet* file_bonds, const std::string& checkpoint) {
   SimConfig c;
   std::ostringstream os;
   c.self_gravity = sc.boolean("gravity.self");
@@ -268,16 +281,12 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
   c.dt = sc.real("time.dt");
   c.multirate = sc.boolean("time.multirate");
   c.pair_steps_per_contact = sc.real("time.steps_per_contact");
-  double mmin = INFINITY, mmax = 0, smin = INFINITY, M = 0;
-  Vec3 com = Vec3::Zero();
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    mmin = std::min(mmin, sp.m[i]);
-    mmax = std::max(mmax, sp.m[i]);
-    smin = std::min(smin, sp.s[i]);
-    M += sp.m[i];
-    com += sp.m[i] * sp.x[i];
-  }
-  com /= M;
+  const double mmax = sum.mmax, smin = sum.smin;
+  // bonds (generated, or their contact times) need the spheres themselves
+  auto spheres = [&]() -> const Spheres& {
+    if (!all) throw std::logic_error("sim_config: bonds need every sphere (no summary-only set-up)");
+    return *all;
+  };
   if (c.contacts) {
     ContactParams p = builtin_contact_parts().resolve(sc);
     if (sc.choice("contact.preset", kContactPresets) == ContactPreset::gravel) {
@@ -293,12 +302,8 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
     double vmax = sc.real("contact.vmax");
     if (p.kn <= 0.0 || p.has(kPartHertz)) {  // Hertz: vmax sets the contact time (dt rule)
       if (vmax <= 0.0) {
-        double R = 0;
-        for (std::size_t i = 0; i < sp.size(); ++i) R = std::max(R, (sp.x[i] - com).norm() + sp.s[i]);
-        vmax = 1.2 * std::sqrt(2.0 * c.gravity.G * M / R);
-        double vrel = 0;
-        for (std::size_t i = 0; i < sp.size(); ++i) vrel = std::max(vrel, sp.v[i].norm());
-        vmax = std::max(vmax, 2.0 * vrel);
+        vmax = 1.2 * std::sqrt(2.0 * c.gravity.G * sum.M / sum.R);
+        vmax = std::max(vmax, 2.0 * sum.vmax);
         os << "k_n rule: vmax = " << vmax << " m/s (1.2 v_esc or 2 max|v|)\n";
       }
       if (!(vmax > 0)) throw common::InputError(sc.where("contact.vmax") + ": cannot derive k_n (no speed scale); give contact.normal.kn or contact.vmax");
@@ -314,8 +319,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       p.kn = a.kn;
       os << "k_n = " << p.kn << " N/m (kinetic rule, m = " << mmax << " kg, s = " << smin << " m)\n";
       if (p.has(kPartCohesion)) {  // cohesion criterion: F_c,max / x_max (contact/cohesion.hpp)
-        double smax = 0;
-        for (double s : sp.s) smax = std::max(smax, s);
+        const double smax = sum.smax;
         const double kc = p.sigma_c * M_PI * p.beta * p.beta * smax * smax /
                           (sc.real("contact.overlap_fraction") * smin);
         if (kc > p.kn) {
@@ -346,7 +350,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       bp.tau_c = sc.real("bonds.tau_c");
       bp.radius_ratio = sc.real("bonds.radius_ratio");
       bp.gap = sc.real("bonds.gap");
-      c.bonds = generate_bonds(sp, bp);
+      c.bonds = generate_bonds(spheres(), bp);
       os << c.bonds.size() << " bonds generated\n";
     }
     if (checkpoint.empty() && file_bonds && !file_bonds->empty() && sc.boolean("bonds.from_file")) {
@@ -357,8 +361,8 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
       os << c.bonds.size() << " bonds from " << sc.string("initial.file") << " (" << c.bonds.broken_count()
          << " of them broken)\n";
     }
-    const double tau_c = shortest_contact_time(p, sp, !c.walls.empty());
-    const double tau_b = c.bonds.empty() ? INFINITY : shortest_bond_time(c.bonds, sp);
+    const double tau_c = shortest_contact_time(p, sum, !c.walls.empty());
+    const double tau_b = c.bonds.empty() ? INFINITY : shortest_bond_time(c.bonds, spheres());
     const double tau_min = std::min(tau_c, tau_b);
     if (c.dt <= 0.0) {
       const double N = sc.real("time.steps_per_contact");
@@ -367,7 +371,7 @@ SimConfig sim_config(const common::Scene& sc, const Spheres& sp, std::string* in
          << tau_c << " s" << (c.bonds.empty() ? std::string() : ", shortest bond mode " + std::to_string(tau_b) + " s")
          << ")\n";
       if (c.multirate && sc.choice("time.level_anchor", kLevelAnchors) == LevelAnchor::median) {
-        const double tau_ref = median_contact_time(p, sp);
+        const double tau_ref = median_contact_time(p, sum);
         const int m = anchored_levels(tau_ref, tau_min);
         // with the lightest anchor the reference pair gets N r / 2^floor(log2 r) steps (r = tau_ref
         // / tau_min); a finer base step is worth it only where that saves >= 10 %

@@ -9,6 +9,7 @@
 /// stiffest/lightest pair present (InputError, exit code 2): no sub-stepping.
 #pragma once
 #include "ssdem/contact_params.hpp"
+#include "ssdem/sphere_summary.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
@@ -26,10 +27,12 @@ DtAdvice choose_kn_dt(double m, double s, double vmax, double en, double overlap
 
 /// Shortest contact duration over the spheres present (lightest pair; wall contacts use m).
 double shortest_contact_time(const ContactParams& p, const Spheres& sp, bool walls);
+double shortest_contact_time(const ContactParams& p, const SphereSummary& s, bool walls);
 
 /// Contact time of two spheres of the median mass (Hertz: at half the largest radius, as
 /// shortest_contact_time): the typical pair of a body.
 double median_contact_time(const ContactParams& p, const Spheres& sp);
+double median_contact_time(const ContactParams& p, const SphereSummary& s);
 
 /// Multi-rate level ladder anchored on a reference contact time (time.level_anchor = median):
 /// the base step h = tau_ref / (N 2^m) with m the smallest integer giving h <= tau_min / N, so the
@@ -45,5 +48,6 @@ int anchored_levels(double tau_ref, double tau_min);
 
 /// Throw common::InputError if dt resolves the shortest contact with fewer than min_steps steps.
 void check_dt(const ContactParams& p, const Spheres& sp, bool walls, double dt, double min_steps);
+void check_dt(const ContactParams& p, const SphereSummary& s, bool walls, double dt, double min_steps);
 
 }  // namespace ssdem
