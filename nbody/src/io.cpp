@@ -201,7 +201,14 @@ void write_checkpoint(const std::string& path, const SimState& st, double dt, in
   common::write_sphere_set(path, set, prov, hook);
 }
 
-SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every, double* kn, std::string* identity) {
+namespace {
+// read_checkpoint, or with `rows` one rank's blocks (read_checkpoint_rows): sph of the spheres and
+// per-sphere arrays, hist of the history records.
+struct Blocks {
+  common::h5::RowRange sph, hist;
+};
+SimState read_state(const std::string& path, double* dt, int* gravity_every, double* kn, std::string* identity,
+                    const Blocks* rows) {
   namespace h5 = common::h5;
   SimState st;
   bool found = false;
@@ -219,23 +226,35 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     if (H5Aexists(g, "energy0_J") > 0) st.energy0 = h5::read_attr_double(g, "energy0_J", path);
     if (identity)
       *identity = H5Aexists(g, "run_identity") > 0 ? h5::read_attr_string(g, "run_identity", path) : std::string();
-    st.a = unflat(h5::read_doubles(f, "/ssdem_state/a", -1, 3, path));
-    st.alpha = unflat(h5::read_doubles(f, "/ssdem_state/alpha", -1, 3, path));
-    if (h5::exists(f, "/ssdem_state/ag")) st.ag = unflat(h5::read_doubles(f, "/ssdem_state/ag", -1, 3, path));
+    // per-sphere arrays: all rows, or the block (their row count checked against the spheres' below)
+    const long long N = rows ? static_cast<long long>(h5::shape(f, "/spheres/id", path).at(0)) : -1;
+    auto doubles = [&](const char* name, std::size_t w) {
+      return rows ? h5::read_doubles(f, name, N, w, path, rows->sph) : h5::read_doubles(f, name, -1, w, path);
+    };
+    st.a = unflat(doubles("/ssdem_state/a", 3));
+    st.alpha = unflat(doubles("/ssdem_state/alpha", 3));
+    if (h5::exists(f, "/ssdem_state/ag")) st.ag = unflat(doubles("/ssdem_state/ag", 3));
     if (h5::exists(f, "/ssdem_state/a_prev")) {
-      st.a_prev = unflat(h5::read_doubles(f, "/ssdem_state/a_prev", -1, 3, path));
-      st.alpha_prev = unflat(h5::read_doubles(f, "/ssdem_state/alpha_prev", -1, 3, path));
+      st.a_prev = unflat(doubles("/ssdem_state/a_prev", 3));
+      st.alpha_prev = unflat(doubles("/ssdem_state/alpha_prev", 3));
     }
     if (h5::exists(f, "/ssdem_state/level")) {
-      const std::vector<std::int32_t> lv = h5::read_i32(f, "/ssdem_state/level", -1, 1, path);
+      const std::vector<std::int32_t> lv = rows ? h5::read_i32(f, "/ssdem_state/level", N, 1, path, rows->sph)
+                                                : h5::read_i32(f, "/ssdem_state/level", -1, 1, path);
       for (std::int32_t l : lv)
         if (l < 0 || l > 30) throw common::InputError(path + ": /ssdem_state/level must be in [0, 30]");
       st.level.assign(lv.begin(), lv.end());
-      st.tau_prev = h5::read_doubles(f, "/ssdem_state/tau_prev", -1, 1, path);
+      st.tau_prev = doubles("/ssdem_state/tau_prev", 1);
     }
-    const auto ia = h5::read_u64(f, "/ssdem_state/history/id_a", -1, 1, path);
-    const long long P = static_cast<long long>(ia.size());
-    const auto ib = h5::read_u64(f, "/ssdem_state/history/id_b", P, 1, path);
+    const char* kIdA = "/ssdem_state/history/id_a";
+    const long long P = rows ? static_cast<long long>(h5::shape(f, kIdA, path).at(0)) : -1;
+    const auto ia = rows ? h5::read_u64(f, kIdA, P, 1, path, rows->hist) : h5::read_u64(f, kIdA, -1, 1, path);
+    const long long Pr = rows ? P : static_cast<long long>(ia.size());
+    auto hist = [&](const std::string& name, std::size_t w) {
+      return rows ? h5::read_doubles(f, name, Pr, w, path, rows->hist) : h5::read_doubles(f, name, Pr, w, path);
+    };
+    const auto ib = rows ? h5::read_u64(f, "/ssdem_state/history/id_b", Pr, 1, path, rows->hist)
+                         : h5::read_u64(f, "/ssdem_state/history/id_b", Pr, 1, path);
     st.history.resize(ia.size());
     for (std::size_t p = 0; p < ia.size(); ++p) {
       st.history[p].id_a = ia[p];
@@ -245,23 +264,51 @@ SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every
     for (int k = 0; k < kHistVec; ++k) {
       const std::string name = std::string("/ssdem_state/history/") + kHistVecFields[k].name;
       if (!h5::exists(f, name)) continue;
-      const auto v = h5::read_doubles(f, name, P, 3, path);
+      const auto v = hist(name, 3);
       for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].v[k] = Vec3(v[3 * p], v[3 * p + 1], v[3 * p + 2]);
     }
     for (int k = 0; k < kHistScal; ++k) {
       const std::string name = std::string("/ssdem_state/history/") + kHistScalFields[k].name;
       if (!h5::exists(f, name)) continue;
-      const auto v = h5::read_doubles(f, name, P, 1, path);
+      const auto v = hist(name, 1);
       for (std::size_t p = 0; p < ia.size(); ++p) st.history[p].q[k] = v[p];
     }
-    if (h5::exists(f, "/ssdem_state/bonds")) st.bonds = read_bond_state(f, path);  // io_bonds.cpp
+    if (h5::exists(f, "/ssdem_state/bonds")) {
+      if (rows) throw std::logic_error(path + ": read_checkpoint_rows of a checkpoint with bonds (read it whole)");
+      st.bonds = read_bond_state(f, path);  // io_bonds.cpp
+    }
   };
-  const common::SphereSet s = common::read_sphere_set(path, hook);
+  const common::SphereSet s = rows ? common::read_sphere_rows(path, rows->sph, hook) : common::read_sphere_set(path, hook);
   if (!found) throw common::InputError(path + ": not an ssdem-grav checkpoint (no /ssdem_state group)");
   st.sp = from_sphere_set(s);
   if (st.a.size() != st.sp.size() || st.alpha.size() != st.sp.size())
     throw common::InputError(path + ": /ssdem_state arrays do not match the sphere count");
   return st;
+}
+}  // namespace
+
+SimState read_checkpoint(const std::string& path, double* dt, int* gravity_every, double* kn, std::string* identity) {
+  return read_state(path, dt, gravity_every, kn, identity, nullptr);
+}
+
+CheckpointShape checkpoint_shape(const std::string& path) {
+  namespace h5 = common::h5;
+  const common::SphereFileShape s = common::sphere_file_shape(path);
+  h5::Handle f = h5::open_file_read(path);
+  if (!h5::exists(f, "ssdem_state"))
+    throw common::InputError(path + ": not an ssdem-grav checkpoint (no /ssdem_state group)");
+  CheckpointShape c;
+  c.spheres = s.count;
+  c.history = h5::shape(f, "/ssdem_state/history/id_a", path).at(0);
+  c.bonds = s.bonds || h5::exists(f, "/ssdem_state/bonds");
+  return c;
+}
+
+SimState read_checkpoint_rows(const std::string& path, const common::h5::RowRange& spheres,
+                              const common::h5::RowRange& history, double* dt, int* gravity_every, double* kn,
+                              std::string* identity) {
+  const Blocks b{spheres, history};
+  return read_state(path, dt, gravity_every, kn, identity, &b);
 }
 
 }  // namespace ssdem

@@ -74,6 +74,19 @@ nbody-mpi-files-bench: build-mpi ## ssdem-grav on 2 ranks: memory and wall of co
 	$(ROOT)/pipelines/mpi/nbody_files_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_FILES_OLD) $(RUNS)/nbody-mpi-files \
 	  $(MPI_SCALING_REPS) $(PAPER_SPHERES) $(MPIRUN)
 
+# ssdem-grav's input on MPI ranks (issue 19: each rank reads only its rows): peak memory of the
+# largest rank and wall of a restart from a 151 837-sphere checkpoint, of a fresh start from its
+# sphere file and of a restart from the impact chain's run NBODY_INPUT_DEBRIS (if it exists; its
+# nbody/checkpoint.h5 with the contact history), on 2, 3 and 6 ranks, this build against
+# NBODY_INPUT_OLD (an MPI ssdem-grav of another commit), interleaved MPI_SCALING_REPS times;
+# runs/nbody-mpi-input/input.md.
+NBODY_INPUT_DEBRIS ?= $(RUNS)/paper-convergence/d1210/cells/c750
+.PHONY: nbody-mpi-input-bench
+nbody-mpi-input-bench: build-mpi ## ssdem-grav restarts and file start on 2, 3, 6 ranks: memory and wall vs NBODY_INPUT_OLD
+	@test -n "$(NBODY_INPUT_OLD)" || { echo "set NBODY_INPUT_OLD=<an MPI ssdem-grav of another commit>"; exit 2; }
+	$(ROOT)/pipelines/mpi/nbody_input_bench.sh $(MPI_BUILD)/nbody/ssdem-grav $(NBODY_INPUT_OLD) $(RUNS)/nbody-mpi-input \
+	  $(MPI_SCALING_REPS) $(NBODY_INPUT_DEBRIS) $(MPIRUN)
+
 # ssdem-grav's gravity on MPI ranks (issue 19): this build against NBODY_GRAVITY_OLD (an MPI
 # ssdem-grav of another commit) with gravity every step on a 151 837-sphere pile (2 and 3 ranks)
 # and two bodies of 89 012 spheres (2 ranks): wall, peak memory of the largest rank, gravity

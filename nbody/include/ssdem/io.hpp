@@ -70,5 +70,19 @@ bool write_state_group(long long file, const SimState& st, const StateHeader& h,
 /// `identity` the recorded run identity text ("" for a checkpoint written without one).
 SimState read_checkpoint(const std::string& path, double* dt = nullptr, int* gravity_every = nullptr,
                          double* kn = nullptr, std::string* identity = nullptr);
+/// A checkpoint's sphere and history-record counts and whether it holds bonds (/bonds or a bond
+/// state), from its header and dataset shapes (no rows read); InputError if it is not a checkpoint.
+struct CheckpointShape {
+  std::size_t spheres = 0, history = 0;
+  bool bonds = false;
+};
+CheckpointShape checkpoint_shape(const std::string& path);
+/// One MPI rank's part of a checkpoint without bonds: rows `spheres` of the spheres and of the
+/// per-sphere state arrays, rows `history` of the contact history records (the scalars as
+/// read_checkpoint). The checks of read_checkpoint on those rows; unique ids across the blocks
+/// are the caller's (mpi/domain_sim.hpp). std::logic_error for a checkpoint with bonds.
+SimState read_checkpoint_rows(const std::string& path, const common::h5::RowRange& spheres,
+                              const common::h5::RowRange& history, double* dt = nullptr,
+                              int* gravity_every = nullptr, double* kn = nullptr, std::string* identity = nullptr);
 
 }  // namespace ssdem

@@ -21,28 +21,34 @@ namespace {
 constexpr std::size_t kOmpMin = 2048;  // below this many own spheres a loop runs serially
 }
 
-void DomainSim::setup(const Spheres& all, const BondSet& bonds) {
+void DomainSim::check_config() const {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
   if (cfg_.gravity_every < 1) throw common::InputError("gravity.every must be >= 1");
   if (cfg_.adaptive_gravity && (!(cfg_.gravity_tolerance > 0.0) || cfg_.gravity_max_every < 1))
     throw common::InputError("gravity.tolerance must be > 0 and gravity.max_every >= 1");
-  if (!all.consistent()) throw common::InputError("spheres: array sizes differ");
-  for (std::size_t i = 0; i < all.size(); ++i)
-    if (!(all.m[i] > 0.0) || !(all.s[i] > 0.0))
-      throw common::InputError("sphere id " + std::to_string(all.id[i]) + ": mass and radius must be > 0");
-  double smax = 0;
-  for (double s : all.s) smax = std::max(smax, s);
-  smax_ = smax;
+}
+
+void DomainSim::setup_config(const SphereSummary& sum) {
+  smax_ = sum.smax;
   if (cfg_.contacts) {
-    check_dt(cfg_.contact, all, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
-    skin_ = cfg_.skin > 0.0 ? cfg_.skin : 0.25 * smax;  // as Simulation::setup
-    reach_ = 2.0 * smax + skin_;
+    check_dt(cfg_.contact, sum, !cfg_.walls.empty(), cfg_.dt, cfg_.min_steps_per_contact);
+    skin_ = cfg_.skin > 0.0 ? cfg_.skin : 0.25 * smax_;  // as Simulation::setup
+    reach_ = 2.0 * smax_ + skin_;
     contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin_);
   } else {
     reach_ = -1.0;  // no ghosts
   }
   if (cfg_.self_gravity && !cfg_.direct_gravity) tree_ = std::make_unique<DistributedTree>(comm_, cfg_.gravity);
   setup_multirate();
+}
+
+void DomainSim::setup(const Spheres& all, const BondSet& bonds) {
+  check_config();
+  if (!all.consistent()) throw common::InputError("spheres: array sizes differ");
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (!(all.m[i] > 0.0) || !(all.s[i] > 0.0))
+      throw common::InputError("sphere id " + std::to_string(all.id[i]) + ": mass and radius must be > 0");
+  setup_config(summarise(all));
   setup_bonds(bonds, all);  // domain_bonds.cpp
   n_global_ = all.size();
   const std::size_t lo = common::mpi::dense_first(all.size(), comm_.size, comm_.rank),

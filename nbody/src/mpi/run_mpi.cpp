@@ -15,12 +15,15 @@
 #include "common/log.hpp"
 #include "common/run_dir.hpp"
 #include "common/run_identity.hpp"
+#include "common/sorted_rows.hpp"
+#include "common/sphere_file.hpp"
 #include "common/series_csv.hpp"
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
 #include "ssdem/io.hpp"
 #include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/mpi/io_mpi.hpp"
+#include "ssdem/mpi/sphere_summary_mpi.hpp"
 #include "ssdem/run.hpp"
 #include "ssdem/scene_setup.hpp"
 
@@ -41,6 +44,16 @@ void on_root(Comm& comm, F&& f) {
   if (err) std::rethrow_exception(err);
   if (!ok) throw common::IoError("rank 0 failed (its message above); stopping");
 }
+// This rank's block of n rows (common::dense_first: the blocks the collective writers use).
+common::h5::RowRange block_rows(const Comm& comm, std::size_t n) {
+  const std::size_t lo = common::mpi::dense_first(n, comm.size, comm.rank);
+  return common::h5::RowRange{lo, common::mpi::dense_first(n, comm.size, comm.rank + 1) - lo};
+}
+std::string block_line(const Comm& comm, std::size_t n) {
+  const std::size_t P = static_cast<std::size_t>(comm.size);
+  return "input: " + std::to_string(n) + " spheres read in blocks, at most " + std::to_string((n + P - 1) / P) +
+         " rows per rank\n";
+}
 }  // namespace
 
 int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
@@ -59,16 +72,38 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   std::unique_ptr<DomainSim> sim;
   std::string info;
   double energy0 = NAN;  // the run's initial accounted energy (a restart: the checkpoint's)
+  std::string input_line;  // how the input was read (run_info.txt)
   if (restart.empty()) {
-    BondSet file_bonds;
-    Spheres sp = initial_spheres(sc, &file_bonds);
-    const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
-    sim = std::make_unique<DomainSim>(comm, sp, cfg);
+    const std::string bf = block_input_file(sc);
+    if (!bf.empty()) {  // each rank reads its block of rows only (domain_sim.hpp, "Input in blocks")
+      const std::size_t n = common::sphere_file_shape(bf).count;
+      if (n == 0) throw common::InputError(bf + ": no spheres");
+      const common::h5::RowRange rows = block_rows(comm, n);
+      const common::SphereSet in = common::read_sphere_rows(bf, rows);
+      common::check_input_spheres(in, bf, "/spheres/", rows.offset);
+      SimState st;
+      st.sp = from_sphere_set(in);
+      const SphereSummary sum = summarise(comm, st.sp);
+      const SimConfig cfg = sim_config(sc, sum, nullptr, &info, nullptr, std::string());
+      sim = std::make_unique<DomainSim>(comm, st, DomainSim::Block{rows.offset, sum, false, bf}, cfg);
+      input_line = block_line(comm, n);
+    } else {
+      BondSet file_bonds;
+      Spheres sp = initial_spheres(sc, &file_bonds);
+      const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
+      sim = std::make_unique<DomainSim>(comm, sp, cfg);
+      input_line = "input: every rank built or read all " + std::to_string(sp.size()) +
+                   " spheres (a generator, a .ss file or bonds)\n";
+    }
   } else {
     double dt0 = 0, kn0 = 0;
     int every0 = 0;
     std::string ck_ident;
-    SimState st = read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
+    const CheckpointShape shape = checkpoint_shape(restart);
+    const bool blocks = !shape.bonds;  // with bonds every rank reads the whole checkpoint
+    SimState st = blocks ? read_checkpoint_rows(restart, block_rows(comm, shape.spheres), block_rows(comm, shape.history),
+                                                &dt0, &every0, &kn0, &ck_ident)
+                         : read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
     if (!ck_ident.empty()) {
       const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
       const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
@@ -86,19 +121,27 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
         if (s >= 0 && s <= st.step) rd->carry(n);
       }
     });
-    SimConfig cfg = sim_config(sc, st.sp, &info, &st.bonds, restart);
+    const SphereSummary sum = blocks ? summarise(comm, st.sp) : SphereSummary{};
+    SimConfig cfg = blocks ? sim_config(sc, sum, nullptr, &info, nullptr, restart) : sim_config(sc, st.sp, &info, &st.bonds, restart);
     if (cfg.contacts && kn0 > 0.0) cfg.contact.kn = kn0;  // the checkpoint's values: the continuation is exact
     cfg.dt = dt0;
     if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
     st.gravity_block = every0;
     energy0 = st.energy0;
-    sim = std::make_unique<DomainSim>(comm, st, cfg);
+    if (blocks) {
+      const std::size_t first = common::mpi::dense_first(shape.spheres, comm.size, comm.rank);
+      sim = std::make_unique<DomainSim>(comm, st, DomainSim::Block{first, sum, true, restart}, cfg);
+      input_line = block_line(comm, shape.spheres);
+    } else {
+      sim = std::make_unique<DomainSim>(comm, st, cfg);
+      input_line = "input: every rank read all " + std::to_string(shape.spheres) + " spheres of the checkpoint (bonds)\n";
+    }
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
   }
   const SimConfig& cfg = sim->config();
   const std::int64_t first_step = sim->step_count();
   std::ostringstream ri;
-  ri << info << "spheres: " << sim->global_count() << "\nMPI ranks: " << comm.size << "\ndt = " << cfg.dt
+  ri << info << input_line << "spheres: " << sim->global_count() << "\nMPI ranks: " << comm.size << "\ndt = " << cfg.dt
      << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
      << "\ncontacts: " << (cfg.contacts ? "on" : "off") << " (pair kernel in packs of " << ContactSystem::lanes()
      << ")\nk_n = " << cfg.contact.kn

@@ -2,7 +2,8 @@
 # The MPI ssdem-grav end to end (label mpi): files written on NP ranks equal those of one rank
 # (every dataset of every snapshot and of the checkpoint; series.csv except wall time), a
 # checkpoint written on NP ranks restarts on NP2 ranks and reaches the one-rank end state bit for
-# bit. APP_MPI_SETS adds scene settings to every run (e.g. "--set time.multirate=true": then
+# bit, each rank reading only its block of the checkpoint's rows (and a fresh start from a
+# sphere file likewise, equal to one rank) unless the run has bonds. APP_MPI_SETS adds scene settings to every run (e.g. "--set time.multirate=true": then
 # levels.csv must equal one rank's; with bonds.generate = true the snapshots' /bonds, the
 # checkpoint's bond state and the four bond columns of series.csv must equal one rank's too).
 # Usage: app_mpi.sh <ssdem-grav> <scene> <NP> <NP2> <mpirun...>
@@ -63,4 +64,25 @@ last=$(basename "$(ls "$w"/one/snap_*.h5 | tail -1)")
 h5diff --exclude-path /provenance "$w/one/$last" "$w/first/$last" >/dev/null || fail "restart $np -> $np2 ranks differs from one rank"
 h5diff --exclude-path /provenance "$w/one/checkpoint.h5" "$w/first/checkpoint.h5" >/dev/null ||
   fail "checkpoint after restart $np -> $np2 differs"
+# how the restart read its checkpoint: in blocks (no rank reads all rows) unless it holds bonds
+if grep -q "bonds.generate=true" <<<"${APP_MPI_SETS:-}"; then
+  grep -q "^input: every rank read all" "$w/first/run_info.txt" || fail "run_info.txt: a checkpoint with bonds is read whole"
+else
+  grep -q "^input: .* spheres read in blocks, at most" "$w/first/run_info.txt" ||
+    fail "run_info.txt: the restart on $np2 ranks did not read the checkpoint in blocks"
+  # a fresh start from a sphere file (a snapshot: no bonds), each rank reading its rows only
+  snap=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
+  bsets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0 --set initial.source=\"file\"
+    --set "initial.file=\"$snap\"" "${extra[@]}")
+  "${run[@]}" -np 1 "$exe" "${bsets[@]}" --set "output.directory=\"$w/blk1\""
+  "${run[@]}" -np "$np2" "$exe" "${bsets[@]}" --set "output.directory=\"$w/blkn\""
+  grep -q "^input: .* spheres read in blocks" "$w/blkn/run_info.txt" || fail "the sphere file was not read in blocks"
+  for f in "$w"/blk1/*.h5; do
+    h5diff --exclude-path /provenance "$f" "$w/blkn/$(basename "$f")" >/dev/null ||
+      fail "$(basename "$f") differs on $np2 ranks (input read in blocks)"
+  done
+  cmp <(cut -d, -f1-19,21- "$w/blk1/series.csv") <(cut -d, -f1-19,21- "$w/blkn/series.csv") ||
+    fail "series.csv differs on $np2 ranks (input read in blocks)"
+  echo "$np2 ranks from $(basename "$snap") read in blocks: files equal to one rank"
+fi
 echo "restart $np -> $np2 ranks: $last and checkpoint equal to one rank"

@@ -69,6 +69,14 @@
 /// Multi-rate steps: every rank runs the bond terms of the level rules (BondLevels) over the bonds
 /// it holds, so the equalisation rounds above reach the one-rank fixed point with bonds too, and
 /// both ends of a bond are synchronised together on every rank that holds it.
+/// Input in blocks (domain_blocks.cpp; the driver's fresh start from an ssdem.spheres file and its
+/// restart, both without bonds). Rank r reads only the rows [dense_first(N, P, r), dense_first(N,
+/// P, r + 1)) of the input (common::read_sphere_rows, read_checkpoint_rows) and the same block of
+/// the checkpoint's history records; the set-up's global quantities come from the summary
+/// (sphere_summary_mpi.hpp), the ORB tree from the collective build; the rows move to their owners
+/// and the history through a directory of ids, so no rank holds more than O(N / P) rows at any
+/// time. The state is then the one the full-set constructors build, bit for bit. With bonds every
+/// rank still reads all the spheres (bond generation and the bond checks need every sphere).
 #pragma once
 #include <memory>
 #include <optional>
@@ -78,6 +86,7 @@
 #include "ssdem/mpi/gravity_let.hpp"
 #include "ssdem/mpi/orb.hpp"
 #include "ssdem/simulation.hpp"
+#include "ssdem/sphere_summary.hpp"
 
 namespace ssdem::mpi {
 
@@ -105,6 +114,17 @@ class DomainSim {
   DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance = 0.1);
   /// Restart: every rank passes the same full state (e.g. read from a checkpoint).
   DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imbalance = 0.1);
+  /// Where a rank's block of the input lies ("Input in blocks" above).
+  struct Block {
+    std::size_t first = 0;   ///< global index (file row) of the block's first sphere
+    SphereSummary summary;   ///< of all the spheres (sphere_summary_mpi.hpp)
+    bool restart = false;    ///< a checkpoint's state (step, time, accelerations), else a fresh start
+    std::string file;        ///< the input, for the messages
+  };
+  /// Fresh start or restart from blocks: each rank passes its rows [at.first, at.first + n) of the
+  /// input (common::dense_first blocks: the carried fields are its carried_block), without bonds,
+  /// with the block's history records (a restart). Equal to the constructors above on the whole set.
+  DomainSim(Comm& comm, const SimState& block, const Block& at, SimConfig cfg, double imbalance = 0.1);
   DomainSim(const DomainSim&) = delete;  // members refer to each other (BondLevels)
   DomainSim& operator=(const DomainSim&) = delete;
 
@@ -200,7 +220,13 @@ class DomainSim {
     std::vector<double> hopen, tau_prev;
   };
   void setup(const Spheres& all, const BondSet& bonds);
+  void check_config() const;                       ///< the configuration's own checks (InputError)
+  void setup_config(const SphereSummary& summary);  ///< the set-up that needs only the summary
   void distribute(const SimState& all);
+  void distribute_block(const SimState& block, std::size_t first, const std::string& file);  ///< domain_blocks.cpp
+  /// The block's history records on the owners of their members (the id directory; checks ids).
+  std::vector<HistoryRecord> route_block_history(const SimState& block, std::size_t first,
+                                                 const std::vector<int>& owner, const std::string& file);
   void exchange();
   void rebuild_local(Owned own, const std::vector<HistoryRecord>& recs);
   void halo_update();
