@@ -67,16 +67,7 @@ DomainSim::DomainSim(Comm& comm, const SimState& block, const Block& at, SimConf
   if (at.restart) {
     const bool sizes = block.a.size() == n && block.alpha.size() == n && (!cfg_.self_gravity || block.ag.size() == n);
     if (!comm_.all(sizes)) throw common::InputError("restart state: acceleration arrays do not match the sphere count");
-    step_ = block.step;
-    time_ = block.time;
-    grav_step_ = block.gravity_step;
-    if (cfg_.adaptive_gravity) {
-      block_start_ = step_;
-      block_ = block.gravity_block > 0 ? block.gravity_block : 1;
-    } else {
-      block_ = cfg_.gravity_every;
-      block_start_ = step_ / block_ * block_;
-    }
+    resume_clock(block);
     has_prev_ = comm_.all(cfg_.extrapolated_predictor && block.a_prev.size() == n);
   } else {
     block_ = cfg_.adaptive_gravity ? 1 : cfg_.gravity_every;

@@ -88,18 +88,22 @@ DomainSim::DomainSim(Comm& comm, const SimState& all, SimConfig cfg, double imba
   const std::size_t n = all.sp.size();
   if (all.a.size() != n || all.alpha.size() != n || (cfg_.self_gravity && all.ag.size() != n))
     throw common::InputError("restart state: acceleration arrays do not match the sphere count");
-  step_ = all.step;
-  time_ = all.time;
-  grav_step_ = all.gravity_step;
+  resume_clock(all);
+  has_prev_ = cfg_.extrapolated_predictor && all.a_prev.size() == n;
+  distribute(all);
+}
+
+void DomainSim::resume_clock(const SimState& st) {
+  step_ = st.step;
+  time_ = st.time;
+  grav_step_ = st.gravity_step;
   if (cfg_.adaptive_gravity) {
     block_start_ = step_;
-    block_ = all.gravity_block > 0 ? all.gravity_block : 1;
+    block_ = st.gravity_block > 0 ? st.gravity_block : 1;
   } else {
     block_ = cfg_.gravity_every;
     block_start_ = step_ / block_ * block_;
   }
-  has_prev_ = cfg_.extrapolated_predictor && all.a_prev.size() == n;
-  distribute(all);
 }
 
 void DomainSim::compute_gravity() {

@@ -16,6 +16,26 @@ trap 'rm -rf "$w"' EXIT
 read -r -a extra <<<"${APP_MPI_SETS:-}"
 common=(--scene "$scene" --quiet --set output.snapshot_interval=50.0 "${extra[@]}")
 fail() { echo "FAIL: $*" >&2; exit 1; }
+# from_snapshot NP TAG WHAT [SETS...]: 20 s from the second snapshot of $w/one on one rank and on NP
+# ranks ($w/TAG1, $w/TAGn); every HDF5 file and series.csv (but the wall time) must be equal;
+# prints the snapshot's name.
+from_snapshot() {
+  local p=$1 tag=$2 what=$3
+  shift 3
+  local snap
+  snap=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
+  local sets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0
+    --set initial.source=\"file\" --set "initial.file=\"$snap\"" "$@")
+  "${run[@]}" -np 1 "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}1\"" >&2
+  "${run[@]}" -np "$p" "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}n\"" >&2
+  for f in "$w/${tag}1"/*.h5; do
+    h5diff --exclude-path /provenance "$f" "$w/${tag}n/$(basename "$f")" >/dev/null ||
+      fail "$(basename "$f") differs on $p ranks ($what)"
+  done
+  cmp <(cut -d, -f1-19,21- "$w/${tag}1/series.csv") <(cut -d, -f1-19,21- "$w/${tag}n/series.csv") >&2 ||
+    fail "series.csv differs on $p ranks ($what)"
+  basename "$snap"
+}
 # same files as one rank (h5diff: provenance holds the command line and output directory)
 "${run[@]}" -np 1 "$exe" "${common[@]}" --set time.end=100.0 --set "output.directory=\"$w/one\""
 "${run[@]}" -np "$np" "$exe" "${common[@]}" --set time.end=100.0 --set "output.directory=\"$w/many\""
@@ -41,19 +61,9 @@ if grep -q "bonds.generate=true" <<<"${APP_MPI_SETS:-}"; then  # bonds: some bre
     fail "run_info.txt's bond line differs on $np ranks"
   echo "$np ranks with bonds: $broken bonds broken at the end, as on one rank"
   # the bonds of an input file (bonds.from_file; a snapshot's /bonds with its broken flags)
-  first=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
-  fsets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0 --set initial.source=\"file\"
-    --set "initial.file=\"$first\"")
-  "${run[@]}" -np 1 "$exe" "${fsets[@]}" --set "output.directory=\"$w/file1\""
-  "${run[@]}" -np "$np" "$exe" "${fsets[@]}" --set "output.directory=\"$w/filen\""
+  first=$(from_snapshot "$np" file "bonds from the input file")
   grep -q "bonds from" "$w/filen/run_info.txt" || fail "the input file's bonds were not used on $np ranks"
-  for f in "$w"/file1/*.h5; do
-    h5diff --exclude-path /provenance "$f" "$w/filen/$(basename "$f")" >/dev/null ||
-      fail "$(basename "$f") differs on $np ranks (bonds from the input file)"
-  done
-  cmp <(cut -d, -f1-19,21- "$w/file1/series.csv") <(cut -d, -f1-19,21- "$w/filen/series.csv") ||
-    fail "series.csv differs on $np ranks (bonds from the input file)"
-  echo "$np ranks with the bonds of $(basename "$first"): files equal to one rank"
+  echo "$np ranks with the bonds of $first: files equal to one rank"
 fi
 echo "$np ranks: $n HDF5 files and series.csv equal to one rank${APP_MPI_SETS:+ ($APP_MPI_SETS)}"
 # checkpoint on NP ranks at t = 50 s, restart on NP2 ranks to 100 s: equal to the one-rank run
@@ -71,18 +81,8 @@ else
   grep -q "^input: .* spheres read in blocks, at most" "$w/first/run_info.txt" ||
     fail "run_info.txt: the restart on $np2 ranks did not read the checkpoint in blocks"
   # a fresh start from a sphere file (a snapshot: no bonds), each rank reading its rows only
-  snap=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
-  bsets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0 --set initial.source=\"file\"
-    --set "initial.file=\"$snap\"" "${extra[@]}")
-  "${run[@]}" -np 1 "$exe" "${bsets[@]}" --set "output.directory=\"$w/blk1\""
-  "${run[@]}" -np "$np2" "$exe" "${bsets[@]}" --set "output.directory=\"$w/blkn\""
+  snap=$(from_snapshot "$np2" blk "input read in blocks" "${extra[@]}")
   grep -q "^input: .* spheres read in blocks" "$w/blkn/run_info.txt" || fail "the sphere file was not read in blocks"
-  for f in "$w"/blk1/*.h5; do
-    h5diff --exclude-path /provenance "$f" "$w/blkn/$(basename "$f")" >/dev/null ||
-      fail "$(basename "$f") differs on $np2 ranks (input read in blocks)"
-  done
-  cmp <(cut -d, -f1-19,21- "$w/blk1/series.csv") <(cut -d, -f1-19,21- "$w/blkn/series.csv") ||
-    fail "series.csv differs on $np2 ranks (input read in blocks)"
-  echo "$np2 ranks from $(basename "$snap") read in blocks: files equal to one rank"
+  echo "$np2 ranks from $snap read in blocks: files equal to one rank"
 fi
 echo "restart $np -> $np2 ranks: $last and checkpoint equal to one rank"

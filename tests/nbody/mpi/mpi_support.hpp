@@ -9,8 +9,12 @@
 
 #include <algorithm>
 
+#include <cmath>
+
+#include "common/rng.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
+#include "ssdem/generators.hpp"
 #include "ssdem/mpi/comm.hpp"
 #include "ssdem/simulation.hpp"
 
@@ -23,6 +27,20 @@ inline ssdem::mpi::Comm& world() {
   omp_set_num_threads(1);
   return true;
 }();
+
+/// G = 1 pile of radius R of 0.1-radius spheres (lattice_pile, jitter 0.05) with random
+/// velocities (0.3 v_esc) and spins drawn from KeyedRng(seed, id).
+inline ssdem::Spheres hot_pile(double R, std::uint64_t seed, std::uint64_t first_id = 0) {
+  using ssdem::Vec3;
+  ssdem::Spheres sp = ssdem::lattice_pile(R, 0.1, 1.0, 0.05, 3, Vec3::Zero(), first_id);
+  const double M = ssdem::total_mass(sp), vesc = std::sqrt(2 * M / R);
+  for (std::size_t i = 0; i < sp.size(); ++i) {
+    common::KeyedRng rng(seed, sp.id[i]);
+    sp.v[i] = 0.3 * vesc * Vec3(rng.normal(), rng.normal(), rng.normal()) / std::sqrt(3.0);
+    sp.w[i] = Vec3(rng.normal(), rng.normal(), rng.normal());
+  }
+  return sp;
+}
 
 /// Self-gravity (G = 1; the tree or direct, adaptive cadence or every 3 steps) and gravel-like
 /// contacts for 0.1-radius spheres of the first sphere's mass, k_n for impacts at vmax; dt not a

@@ -39,16 +39,7 @@ using ssdem_test::state_diff;
 using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres with random velocities (0.3 v_esc) and spins.
-Spheres pile(double R) {
-  Spheres sp = lattice_pile(R, 0.1, 1.0, 0.05, 3);
-  const double M = total_mass(sp), vesc = std::sqrt(2 * M / R);
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    common::KeyedRng rng(29, sp.id[i]);
-    sp.v[i] = 0.3 * vesc * Vec3(rng.normal(), rng.normal(), rng.normal()) / std::sqrt(3.0);
-    sp.w[i] = Vec3(rng.normal(), rng.normal(), rng.normal());
-  }
-  return sp;
-}
+Spheres pile(double R) { return ssdem_test::hot_pile(R, 29); }
 
 // Rows [lo, hi) of every array of `all` (a rank's block).
 Spheres rows(const Spheres& all, std::size_t lo, std::size_t hi) {

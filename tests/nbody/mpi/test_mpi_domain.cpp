@@ -38,16 +38,7 @@ using ssdem_test::state_diff;
 using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres with random velocities (0.3 v_esc) and spins.
-Spheres pile(double R = 0.75, std::uint64_t first_id = 0) {
-  Spheres sp = lattice_pile(R, 0.1, 1.0, 0.05, 3, Vec3::Zero(), first_id);
-  const double M = total_mass(sp), vesc = std::sqrt(2 * M / R);
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    common::KeyedRng rng(17, sp.id[i]);
-    sp.v[i] = 0.3 * vesc * Vec3(rng.normal(), rng.normal(), rng.normal()) / std::sqrt(3.0);
-    sp.w[i] = Vec3(rng.normal(), rng.normal(), rng.normal());
-  }
-  return sp;
-}
+Spheres pile(double R = 0.75, std::uint64_t first_id = 0) { return ssdem_test::hot_pile(R, 17, first_id); }
 struct Totals {
   double m = 0;
   Vec3 P = Vec3::Zero(), L = Vec3::Zero();

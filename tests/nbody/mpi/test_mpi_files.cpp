@@ -34,15 +34,9 @@ using ssdem_test::world;
 
 // G = 1 pile of 0.1-radius spheres, random velocities and spins, a carried damage field.
 Spheres pile() {
-  Spheres sp = lattice_pile(0.75, 0.1, 1.0, 0.05, 3, Vec3::Zero(), 0);
-  const double M = total_mass(sp), vesc = std::sqrt(2 * M / 0.75);
+  Spheres sp = ssdem_test::hot_pile(0.75, 23);
   common::Field damage{"damage", "1", 1, {}, "scalar damage (hand-off)"};
-  for (std::size_t i = 0; i < sp.size(); ++i) {
-    common::KeyedRng rng(23, sp.id[i]);
-    sp.v[i] = 0.3 * vesc * Vec3(rng.normal(), rng.normal(), rng.normal()) / std::sqrt(3.0);
-    sp.w[i] = Vec3(rng.normal(), rng.normal(), rng.normal());
-    damage.values.push_back(rng.uniform());
-  }
+  for (std::size_t i = 0; i < sp.size(); ++i) damage.values.push_back(common::KeyedRng(24, sp.id[i]).uniform());
   sp.carried = {damage};
   return sp;
 }

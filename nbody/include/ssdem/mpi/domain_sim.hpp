@@ -221,6 +221,7 @@ class DomainSim {
   };
   void setup(const Spheres& all, const BondSet& bonds);
   void check_config() const;                       ///< the configuration's own checks (InputError)
+  void resume_clock(const SimState& st);            ///< a restart's step, time and gravity block
   void setup_config(const SphereSummary& summary);  ///< the set-up that needs only the summary
   void distribute(const SimState& all);
   void distribute_block(const SimState& block, std::size_t first, const std::string& file);  ///< domain_blocks.cpp
