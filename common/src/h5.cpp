@@ -411,6 +411,13 @@ std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string
   return d;
 }
 
+std::size_t rows(hid_t loc, const std::string& name, const std::string& file) {
+  if (!exists(loc, name)) throw InputError(file, name, "required dataset is missing");
+  const std::vector<hsize_t> d = shape(loc, name, file);
+  if (d.empty()) throw InputError(file, name, "wrong shape " + shape_str(d) + ", expected (N,) or (N, k)");
+  return static_cast<std::size_t>(d[0]);
+}
+
 std::string unit_of(hid_t loc, const std::string& name) {
   if (!exists(loc, name)) return {};
   Handle ds(H5Dopen2(loc, name.c_str(), H5P_DEFAULT));

@@ -29,7 +29,7 @@ inline void check_values(const std::string& file, const std::string& path,
                          const std::vector<double>& v, std::size_t ncomp, bool positive, std::size_t row0 = 0) {
   for (std::size_t i = 0; i < v.size(); ++i) {
     if (!std::isfinite(v[i]))
-      throw InputError(file, path, "non-finite value (NaN or Inf) at row " + std::to_string(i / ncomp));
+      throw InputError(file, path, "non-finite value (NaN or Inf) at row " + std::to_string(row0 + i / ncomp));
     if (positive && !(v[i] > 0.0))
       throw InputError(file, path, "non-positive value " + std::to_string(v[i]) + " at row " +
                                        std::to_string(row0 + i / ncomp) + " (must be > 0)");

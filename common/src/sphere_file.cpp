@@ -99,7 +99,7 @@ SphereSet read_spheres(const std::string& path, const H5Hook& extra, const h5::R
   long long n = -1;
   s.for_each_array([&](const SphereArray& a, auto& v) {
     const std::string p = std::string("/spheres/") + a.name;
-    if (n < 0 && range) n = static_cast<long long>(h5::shape(f, p, path).at(0));
+    if (n < 0 && range) n = static_cast<long long>(h5::rows(f, p, path));
     if constexpr (std::is_same_v<typename std::decay_t<decltype(v)>::value_type, std::uint64_t>)
       v = range ? h5::read_u64(f, p, n, a.width, path, *range) : h5::read_u64(f, p, n, a.width, path);
     else
@@ -132,9 +132,7 @@ SphereFileShape sphere_file_shape(const std::string& path) {
   double time = 0;
   std::int64_t step = 0;
   read_header(f, path, kSphereFormat, kSphereFormatVersion, time, step);
-  const std::vector<hsize_t> d = h5::shape(f, "/spheres/id", path);
-  if (d.size() != 1) throw InputError(path, "/spheres/id", "wrong shape: expected (N,)");
-  return SphereFileShape{static_cast<std::size_t>(d[0]), h5::exists(f, "/bonds")};
+  return SphereFileShape{h5::rows(f, "/spheres/id", path), h5::exists(f, "/bonds")};
 }
 
 }  // namespace common

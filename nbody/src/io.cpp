@@ -226,8 +226,9 @@ SimState read_state(const std::string& path, double* dt, int* gravity_every, dou
     if (H5Aexists(g, "energy0_J") > 0) st.energy0 = h5::read_attr_double(g, "energy0_J", path);
     if (identity)
       *identity = H5Aexists(g, "run_identity") > 0 ? h5::read_attr_string(g, "run_identity", path) : std::string();
-    // per-sphere arrays: all rows, or the block (their row count checked against the spheres' below)
-    const long long N = rows ? static_cast<long long>(h5::shape(f, "/spheres/id", path).at(0)) : -1;
+    // per-sphere arrays: all rows (their count checked against the spheres' below), or the block
+    // (each dataset's shape checked against the spheres' count N by the reader)
+    const long long N = rows ? static_cast<long long>(h5::rows(f, "/spheres/id", path)) : -1;
     auto doubles = [&](const char* name, std::size_t w) {
       return rows ? h5::read_doubles(f, name, N, w, path, rows->sph) : h5::read_doubles(f, name, -1, w, path);
     };
@@ -247,7 +248,7 @@ SimState read_state(const std::string& path, double* dt, int* gravity_every, dou
       st.tau_prev = doubles("/ssdem_state/tau_prev", 1);
     }
     const char* kIdA = "/ssdem_state/history/id_a";
-    const long long P = rows ? static_cast<long long>(h5::shape(f, kIdA, path).at(0)) : -1;
+    const long long P = rows ? static_cast<long long>(h5::rows(f, kIdA, path)) : -1;
     const auto ia = rows ? h5::read_u64(f, kIdA, P, 1, path, rows->hist) : h5::read_u64(f, kIdA, -1, 1, path);
     const long long Pr = rows ? P : static_cast<long long>(ia.size());
     auto hist = [&](const std::string& name, std::size_t w) {
@@ -299,7 +300,7 @@ CheckpointShape checkpoint_shape(const std::string& path) {
     throw common::InputError(path + ": not an ssdem-grav checkpoint (no /ssdem_state group)");
   CheckpointShape c;
   c.spheres = s.count;
-  c.history = h5::shape(f, "/ssdem_state/history/id_a", path).at(0);
+  c.history = h5::rows(f, "/ssdem_state/history/id_a", path);
   c.bonds = s.bonds || h5::exists(f, "/ssdem_state/bonds");
   return c;
 }

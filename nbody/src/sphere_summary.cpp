@@ -15,12 +15,7 @@ SphereSummary summarise(const Spheres& sp) {
   common::ExactSum M, mx[3];
   for (std::size_t i = 0; i < s.n; ++i) {
     const double m = sp.m[i];
-    if (m < s.m1) {
-      s.m2 = s.m1;
-      s.m1 = m;
-    } else if (m < s.m2) {
-      s.m2 = m;
-    }
+    offer_smallest(m, s.m1, s.m2);
     s.mmax = std::max(s.mmax, m);
     s.smin = std::min(s.smin, sp.s[i]);
     s.smax = std::max(s.smax, sp.s[i]);

@@ -2,7 +2,10 @@
 /// File contract: bit-exact round trips, units and provenance on every dataset.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "common/h5.hpp"
+#include "common/status.hpp"
 #include "test_util.hpp"
 
 using namespace common;
@@ -82,4 +85,56 @@ TEST(SphereFile, EmptySetRoundTrips) {
   SphereSet a;
   write_sphere_set(dir.file("e.h5"), a, testutil::sample_provenance());
   EXPECT_EQ(read_sphere_set(dir.file("e.h5")).count(), 0u);
+}
+
+TEST(SphereFile, BlocksReadBackToTheWholeSetAndNameTheFileRow) {
+  // the blocks of 1, 2, 3 and 7 readers (common::mpi::dense_first's split) concatenate to the
+  // whole read, fields included; a block's message names the file row
+  testutil::TempDir dir;
+  const std::size_t n = 300;
+  SphereSet a = testutil::sample_spheres(n);
+  const std::string path = dir.file("spheres.h5");
+  write_sphere_set(path, a, testutil::sample_provenance());
+  const SphereSet whole = read_sphere_set(path);
+  const SphereFileShape shape = sphere_file_shape(path);
+  EXPECT_EQ(shape.count, n);
+  EXPECT_FALSE(shape.bonds);
+  for (std::size_t P : {1u, 2u, 3u, 7u}) {
+    SphereSet cat;
+    std::vector<double> damage;
+    for (std::size_t r = 0; r < P; ++r) {
+      const std::size_t lo = n * r / P, hi = n * (r + 1) / P;
+      const SphereSet b = read_sphere_rows(path, h5::RowRange{lo, hi - lo});
+      ASSERT_EQ(b.count(), hi - lo);
+      cat.id.insert(cat.id.end(), b.id.begin(), b.id.end());
+      cat.position.insert(cat.position.end(), b.position.begin(), b.position.end());
+      cat.mass.insert(cat.mass.end(), b.mass.begin(), b.mass.end());
+      cat.spin.insert(cat.spin.end(), b.spin.begin(), b.spin.end());
+      ASSERT_NE(b.field("damage"), nullptr);
+      damage.insert(damage.end(), b.field("damage")->values.begin(), b.field("damage")->values.end());
+    }
+    EXPECT_EQ(cat.id, whole.id) << P << " blocks";
+    EXPECT_EQ(cat.position, whole.position) << P << " blocks";
+    EXPECT_EQ(cat.mass, whole.mass) << P << " blocks";
+    EXPECT_EQ(cat.spin, whole.spin) << P << " blocks";
+    EXPECT_EQ(damage, whole.field("damage")->values) << P << " blocks";
+  }
+  // a NaN position at row 207 and a zero mass at row 250: a block holding them names those rows
+  a.position[3 * 207 + 1] = std::nan("");
+  write_sphere_set(dir.file("bad_x.h5"), a, testutil::sample_provenance());
+  a.position[3 * 207 + 1] = 0.0;
+  a.mass[250] = 0.0;
+  write_sphere_set(dir.file("bad_m.h5"), a, testutil::sample_provenance());
+  auto message = [&](const std::string& f) {
+    try {
+      read_sphere_rows(dir.file(f), h5::RowRange{200, 100});
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message("bad_x.h5").find("/spheres/position: non-finite value (NaN or Inf) at row 207"), std::string::npos)
+      << message("bad_x.h5");
+  EXPECT_NE(message("bad_m.h5").find("/spheres/mass: non-positive value 0.000000 at row 250"), std::string::npos)
+      << message("bad_m.h5");
 }

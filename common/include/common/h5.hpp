@@ -124,6 +124,9 @@ std::vector<std::int32_t> read_i32(hid_t loc, const std::string& name, long long
                                    const std::string& file, const RowRange& range);
 /// Shape of a dataset (throws InputError if absent).
 std::vector<hsize_t> shape(hid_t loc, const std::string& name, const std::string& file);
+/// Rows of a dataset (its first dimension), with the messages of the whole reads: InputError if
+/// it is absent ("required dataset is missing") or has no dimension.
+std::size_t rows(hid_t loc, const std::string& name, const std::string& file);
 /// The `unit` attribute of a dataset ("" if absent).
 std::string unit_of(hid_t loc, const std::string& name);
 

@@ -80,7 +80,8 @@ CheckpointShape checkpoint_shape(const std::string& path);
 /// One MPI rank's part of a checkpoint without bonds: rows `spheres` of the spheres and of the
 /// per-sphere state arrays, rows `history` of the contact history records (the scalars as
 /// read_checkpoint). The checks of read_checkpoint on those rows; unique ids across the blocks
-/// are the caller's (mpi/domain_sim.hpp). std::logic_error for a checkpoint with bonds.
+/// are the caller's (mpi/domain_sim.hpp). std::logic_error for a checkpoint with a bond state
+/// (checkpoint_shape().bonds: read it whole).
 SimState read_checkpoint_rows(const std::string& path, const common::h5::RowRange& spheres,
                               const common::h5::RowRange& history, double* dt = nullptr,
                               int* gravity_every = nullptr, double* kn = nullptr, std::string* identity = nullptr);

@@ -24,6 +24,17 @@ struct SphereSummary {
   double vmax = 0.0;                    ///< largest |v| [m/s]
 };
 
+/// Offer a mass to the two smallest so far (m1 <= m2; a repeat of the smallest makes m2 = m1):
+/// the result does not depend on the order of the offers.
+inline void offer_smallest(double m, double& m1, double& m2) {
+  if (m < m1) {
+    m2 = m1;
+    m1 = m;
+  } else if (m < m2) {
+    m2 = m;
+  }
+}
+
 /// The summary of `sp` (all the spheres).
 SphereSummary summarise(const Spheres& sp);
 

@@ -4,10 +4,16 @@
 /// The spheres go to their ORB owners (the collective tree, orb.hpp); ids are checked for
 /// uniqueness and the contact history is routed through a directory of ids: the entry of id
 /// (its global index and new owner) lives on rank dir(id), a hash of the id. A history record
-/// visits dir(id_a), then dir(id_b), which send it to the owners of both members. Four exchanges,
-/// O(N / P) bytes per rank. The errors are the one-rank messages, on every rank alike.
+/// visits dir(id_a), then dir(id_b), which sends it to the owners of both members (a wall contact
+/// goes from dir(id_a) to its sphere's owner). Four exchanges, O(N / P) bytes per rank. The checks
+/// made here (sphere values, duplicate ids, unknown history ids) throw the one-rank message on
+/// every rank alike; a duplicate id is found after the set-up's other checks (one rank: when the
+/// file is read). The readers' own checks fail on the rank that holds the bad row, naming its
+/// file row, and the driver stops every rank (MPI_Abort).
 #include <algorithm>
+#include <stdexcept>
 
+#include "common/sorted_rows.hpp"
 #include "common/status.hpp"
 #include "ssdem/mpi/domain_sim.hpp"
 #include "sphere_pack.hpp"
@@ -16,15 +22,23 @@ namespace ssdem::mpi {
 namespace {
 bool is_wall(const HistoryRecord& r) { return r.id_b >= kWallIdBase; }
 
-// A directory entry: a sphere's id, global index and owner.
+// A directory entry: a sphere's id, global index and owner (no padding: sent as bytes).
 struct IdEntry {
-  std::uint64_t id, g;
-  std::int32_t owner;
+  std::uint64_t id, g, owner;
 };
 
 // The directory rank of an id (a multiplicative hash, so that consecutive ids spread).
 int dir_of(std::uint64_t id, int P) {
   return static_cast<int>(((id * 0x9E3779B97F4A7C15ull) >> 32) % static_cast<std::uint64_t>(P));
+}
+
+// The record with the smallest first value over the ranks (every rank alike; ~0: none anywhere).
+std::vector<std::uint64_t> lowest_over_ranks(Comm& comm, const std::vector<std::uint64_t>& mine) {
+  const std::vector<std::uint64_t> all = comm.gather(mine);
+  std::vector<std::uint64_t> best = mine;
+  for (std::size_t r = 0; r + mine.size() <= all.size(); r += mine.size())
+    if (all[r] < best[0]) best.assign(all.begin() + static_cast<std::ptrdiff_t>(r), all.begin() + static_cast<std::ptrdiff_t>(r + mine.size()));
+  return best;
 }
 
 template <class T>
@@ -43,21 +57,18 @@ DomainSim::DomainSim(Comm& comm, const SimState& block, const Block& at, SimConf
     throw std::logic_error("DomainSim: a start from blocks takes no bonds (every rank passes all of them instead)");
   const std::size_t n = block.sp.size();
   // the one-rank checks (DomainSim::setup), decided together: the first failing sphere in index order
-  std::uint64_t bad[2] = {~std::uint64_t{0}, 0};  // global index, id
+  const std::size_t lo = common::mpi::dense_first(at.summary.n, comm_.size, comm_.rank);
+  if (at.first != lo || n != common::mpi::dense_first(at.summary.n, comm_.size, comm_.rank + 1) - lo)
+    throw std::logic_error("DomainSim: a start from blocks needs each rank's dense block of rows (carried_block)");
+  std::vector<std::uint64_t> bad{~std::uint64_t{0}, 0};  // global index, id
   const bool consistent = block.sp.consistent();
   for (std::size_t i = 0; i < n && consistent; ++i)
     if (!(block.sp.m[i] > 0.0) || !(block.sp.s[i] > 0.0)) {
-      bad[0] = at.first + i;
-      bad[1] = block.sp.id[i];
+      bad = {at.first + i, block.sp.id[i]};
       break;
     }
   if (!comm_.all(consistent)) throw common::InputError("spheres: array sizes differ");
-  const std::vector<std::uint64_t> bads = comm_.gather(std::vector<std::uint64_t>(bad, bad + 2));
-  for (std::size_t r = 0; r + 1 < bads.size(); r += 2)
-    if (bads[r] < bad[0]) {
-      bad[0] = bads[r];
-      bad[1] = bads[r + 1];
-    }
+  bad = lowest_over_ranks(comm_, bad);
   if (bad[0] != ~std::uint64_t{0})
     throw common::InputError("sphere id " + std::to_string(bad[1]) + ": mass and radius must be > 0");
   setup_config(at.summary);
@@ -105,12 +116,7 @@ void DomainSim::distribute_block(const SimState& b, std::size_t first, const std
   }
   Owned own;
   for (const auto& buf : comm_.alltoallv(out))
-    for (std::size_t off = 0; off < buf.size();) {
-      own.g.push_back(get<std::uint64_t>(buf, off));
-      append_sphere(buf, off, own.sp);
-      for (auto* v : {&own.a, &own.alpha, &own.ag, &own.a_prev, &own.alpha_prev}) v->push_back(get<Vec3>(buf, off));
-      unpack_multirate(buf, off, own);
-    }
+    for (std::size_t off = 0; off < buf.size();) unpack_owned(buf, off, own);
   rebuild_local(std::move(own), route_block_history(b, first, owner, file));
 }
 
@@ -120,25 +126,26 @@ std::vector<HistoryRecord> DomainSim::route_block_history(const SimState& b, std
   std::vector<std::vector<char>> out(P);
   // 1. the directory: (id, index, owner) of every row on rank dir(id)
   for (std::size_t i = 0; i < b.sp.size(); ++i)
-    put(out[dir_of(b.sp.id[i], P)], IdEntry{b.sp.id[i], first + i, owner[i]});
+    put(out[dir_of(b.sp.id[i], P)], IdEntry{b.sp.id[i], first + i, static_cast<std::uint64_t>(owner[i])});
   std::vector<IdEntry> dir = unpack_all<IdEntry>(comm_.alltoallv(out));
   std::sort(dir.begin(), dir.end(), [](const IdEntry& x, const IdEntry& y) { return x.id != y.id ? x.id < y.id : x.g < y.g; });
   // unique ids (common's check_unique_ids over all rows): the repeat with the lowest row, over all ranks
-  std::uint64_t dup[3] = {~std::uint64_t{0}, 0, 0};  // repeat's row, first row, id
+  std::vector<std::uint64_t> dup{~std::uint64_t{0}, 0, 0};  // repeat's row, first row, id
   for (std::size_t k = 1; k < dir.size(); ++k)
     if (dir[k].id == dir[k - 1].id && (k < 2 || dir[k - 2].id != dir[k].id) && dir[k].g < dup[0])
-      dup[0] = dir[k].g, dup[1] = dir[k - 1].g, dup[2] = dir[k].id;
-  const std::vector<std::uint64_t> dups = comm_.gather(std::vector<std::uint64_t>(dup, dup + 3));
-  for (std::size_t r = 0; r + 2 < dups.size(); r += 3)
-    if (dups[r] < dup[0]) dup[0] = dups[r], dup[1] = dups[r + 1], dup[2] = dups[r + 2];
+      dup = {dir[k].g, dir[k - 1].g, dir[k].id};
+  dup = lowest_over_ranks(comm_, dup);
   if (dup[0] != ~std::uint64_t{0})
     throw common::InputError(file, "/spheres/id", "duplicate id " + std::to_string(dup[2]) + " at rows " +
                                                       std::to_string(dup[1]) + " and " + std::to_string(dup[0]) +
                                                       " (ids must be unique)");
   auto owner_of = [&](std::uint64_t id) {
     const auto it = std::lower_bound(dir.begin(), dir.end(), id, [](const IdEntry& e, std::uint64_t v) { return e.id < v; });
-    return it != dir.end() && it->id == id ? it->owner : -1;
+    return it != dir.end() && it->id == id ? static_cast<int>(it->owner) : -1;
   };
+  // as the one-rank import (ContactSystem): no contacts, no history; wall records only with walls
+  if (!contacts_) return {};
+  const std::size_t nw = cfg_.walls.size();
   // 2. each record to dir(id_a): its owner there
   for (auto& o : out) o.clear();
   for (const HistoryRecord& r : b.history) put(out[dir_of(r.id_a, P)], r);
@@ -151,8 +158,9 @@ std::vector<HistoryRecord> DomainSim::route_block_history(const SimState& b, std
   for (auto& o : out) o.clear();
   bool unknown_pair = false, unknown_wall = false;
   for (const HistoryRecord& r : at_a) {
+    if (is_wall(r) && nw == 0) continue;
     const int oa = owner_of(r.id_a);
-    if (oa < 0) {
+    if (oa < 0 || (is_wall(r) && r.id_b - kWallIdBase >= nw)) {
       (is_wall(r) ? unknown_wall : unknown_pair) = true;
       continue;
     }

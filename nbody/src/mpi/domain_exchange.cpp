@@ -28,6 +28,14 @@ void DomainSim::pack_owned(std::size_t i, std::vector<char>& b) const {
   }
 }
 
+// One record of pack_owned, appended to `own`.
+void DomainSim::unpack_owned(const std::vector<char>& b, std::size_t& off, Owned& own) const {
+  own.g.push_back(get<std::uint64_t>(b, off));
+  append_sphere(b, off, own.sp);
+  for (auto* v : {&own.a, &own.alpha, &own.ag, &own.a_prev, &own.alpha_prev}) v->push_back(get<Vec3>(b, off));
+  unpack_multirate(b, off, own);
+}
+
 // The multi-rate fields of pack_owned, appended to `own`.
 void DomainSim::unpack_multirate(const std::vector<char>& b, std::size_t& off, Owned& own) const {
   if (!cfg_.multirate) return;
@@ -101,12 +109,7 @@ void DomainSim::exchange() {
   const std::vector<std::vector<char>> in = comm_.alltoallv(out);
   Owned own;
   for (const auto& b : in)
-    for (std::size_t off = 0; off < b.size();) {
-      own.g.push_back(get<std::uint64_t>(b, off));
-      append_sphere(b, off, own.sp);
-      for (auto* v : {&own.a, &own.alpha, &own.ag, &own.a_prev, &own.alpha_prev}) v->push_back(get<Vec3>(b, off));
-      unpack_multirate(b, off, own);
-    }
+    for (std::size_t off = 0; off < b.size();) unpack_owned(b, off, own);
   // history: the owner's record goes to the new owners of both members
   for (auto& b : out) b.clear();
   for (const HistoryRecord& r : recs) {

@@ -8,24 +8,10 @@
 #include <cstring>
 #include <limits>
 
+#include "ordered_bits.hpp"
 #include "ssdem/mpi/orb.hpp"
 
 namespace ssdem::mpi {
-namespace {
-
-// Ordered bit pattern of a double: key(a) < key(b) iff a < b, for finite a, b (-0 as +0).
-std::uint64_t key_of(double v) {
-  v += 0.0;  // -0 -> +0: they compare equal, as in the serial sort
-  const std::uint64_t b = std::bit_cast<std::uint64_t>(v);
-  return (b >> 63) ? ~b : b | (std::uint64_t{1} << 63);
-}
-double value_of(std::uint64_t k) {
-  const std::uint64_t b = (k >> 63) ? k & ~(std::uint64_t{1} << 63) : ~k;
-  return std::bit_cast<double>(b);
-}
-
-}  // namespace
-
 OrbTree OrbTree::collective(Comm& comm, const std::vector<Vec3>& x) {
   OrbTree t;
   const int P = comm.size;

@@ -3,29 +3,24 @@
 #include "ssdem/mpi/sphere_summary_mpi.hpp"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
 #include <stdexcept>
 
 #include "common/exact_sum_mpi.hpp"
+#include "ordered_bits.hpp"
 
 namespace ssdem::mpi {
-namespace {
-// A double's bits mapped so that unsigned order is numeric order (negative values reversed).
-std::uint64_t ordered(double v) {
-  const auto u = std::bit_cast<std::uint64_t>(v);
-  return (u >> 63) ? ~u : (u | (std::uint64_t{1} << 63));
-}
-double unordered(std::uint64_t k) {
-  return std::bit_cast<double>((k >> 63) ? (k & ~(std::uint64_t{1} << 63)) : ~k);
-}
-}  // namespace
-
 double kth_smallest(Comm& comm, const std::vector<double>& mine, std::uint64_t k) {
   std::vector<std::uint64_t> key(mine.size());
-  for (std::size_t i = 0; i < mine.size(); ++i) key[i] = ordered(mine[i]);
-  // the smallest K with count(key <= K) > k, by bisection over [lo, hi]
-  std::uint64_t lo = 0, hi = ~std::uint64_t{0};
+  std::uint64_t lo = ~std::uint64_t{0}, hi = 0;
+  for (std::size_t i = 0; i < mine.size(); ++i) {
+    key[i] = key_of(mine[i]);
+    lo = std::min(lo, key[i]);
+    hi = std::max(hi, key[i]);
+  }
+  MPI_Allreduce(MPI_IN_PLACE, &lo, 1, MPI_UINT64_T, MPI_MIN, comm.c);
+  MPI_Allreduce(MPI_IN_PLACE, &hi, 1, MPI_UINT64_T, MPI_MAX, comm.c);
+  // the smallest K in [lo, hi] with count(key <= K) > k, by bisection
   while (lo < hi) {
     const std::uint64_t mid = lo + (hi - lo) / 2;
     long long c = 0;
@@ -36,7 +31,7 @@ double kth_smallest(Comm& comm, const std::vector<double>& mine, std::uint64_t k
     else
       lo = mid + 1;
   }
-  return unordered(lo);
+  return value_of(lo);
 }
 
 SphereSummary summarise(Comm& comm, const Spheres& b) {
@@ -46,12 +41,7 @@ SphereSummary summarise(Comm& comm, const Spheres& b) {
   double two[2] = {INFINITY, INFINITY};        // this rank's two smallest masses
   for (std::size_t i = 0; i < b.size(); ++i) {
     const double m = b.m[i];
-    if (m < two[0]) {
-      two[1] = two[0];
-      two[0] = m;
-    } else if (m < two[1]) {
-      two[1] = m;
-    }
+    offer_smallest(m, two[0], two[1]);
     ext[0] = std::max(ext[0], m);
     ext[1] = std::max(ext[1], b.s[i]);
     ext[2] = std::max(ext[2], b.v[i].norm());
@@ -68,14 +58,7 @@ SphereSummary summarise(Comm& comm, const Spheres& b) {
   s.vmax = ext[2];
   s.smin = -ext[3];
   // the two smallest of all: the serial scan's result whatever the order (m2 = m1 when shared)
-  for (double m : comm.allgather(two, 2)) {
-    if (m < s.m1) {
-      s.m2 = s.m1;
-      s.m1 = m;
-    } else if (m < s.m2) {
-      s.m2 = m;
-    }
-  }
+  for (double m : comm.allgather(two, 2)) offer_smallest(m, s.m1, s.m2);
   common::ExactSum* sums[4] = {&M, &mx[0], &mx[1], &mx[2]};
   common::mpi::allreduce(comm, sums, 4);
   s.M = M.value();

@@ -26,8 +26,8 @@ from_snapshot() {
   snap=$(ls "$w"/one/snap_*.h5 | head -2 | tail -1)
   local sets=(--scene "$scene" --quiet --set time.end=20.0 --set output.snapshot_interval=10.0
     --set initial.source=\"file\" --set "initial.file=\"$snap\"" "$@")
-  "${run[@]}" -np 1 "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}1\"" >&2
-  "${run[@]}" -np "$p" "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}n\"" >&2
+  "${run[@]}" -np 1 "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}1\"" >&2 || fail "one rank failed ($what)"
+  "${run[@]}" -np "$p" "$exe" "${sets[@]}" --set "output.directory=\"$w/${tag}n\"" >&2 || fail "$p ranks failed ($what)"
   for f in "$w/${tag}1"/*.h5; do
     h5diff --exclude-path /provenance "$f" "$w/${tag}n/$(basename "$f")" >/dev/null ||
       fail "$(basename "$f") differs on $p ranks ($what)"

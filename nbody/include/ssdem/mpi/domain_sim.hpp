@@ -71,12 +71,13 @@
 /// both ends of a bond are synchronised together on every rank that holds it.
 /// Input in blocks (domain_blocks.cpp; the driver's fresh start from an ssdem.spheres file and its
 /// restart, both without bonds). Rank r reads only the rows [dense_first(N, P, r), dense_first(N,
-/// P, r + 1)) of the input (common::read_sphere_rows, read_checkpoint_rows) and the same block of
-/// the checkpoint's history records; the set-up's global quantities come from the summary
+/// P, r + 1)) of the input (common::read_sphere_rows, read_checkpoint_rows) and the dense block
+/// of the checkpoint's history rows; the set-up's global quantities come from the summary
 /// (sphere_summary_mpi.hpp), the ORB tree from the collective build; the rows move to their owners
 /// and the history through a directory of ids, so no rank holds more than O(N / P) rows at any
-/// time. The state is then the one the full-set constructors build, bit for bit. With bonds every
-/// rank still reads all the spheres (bond generation and the bond checks need every sphere).
+/// time. The owned state is then the one the full-set constructors build, bit for bit (a ghost-
+/// ghost pair's record, whose force no rank uses, is no longer kept). With bonds every rank still
+/// reads all the spheres (bond generation and the bond checks need every sphere).
 #pragma once
 #include <memory>
 #include <optional>
@@ -264,6 +265,7 @@ class DomainSim {
   bool need_exchange();  ///< collective (domain_movers.cpp)
   std::vector<HistoryRecord> owned_history() const;
   void pack_owned(std::size_t i, std::vector<char>& b) const;
+  void unpack_owned(const std::vector<char>& b, std::size_t& off, Owned& own) const;
   /// This rank's part of the state: packed own spheres and owned history, with the scalars.
   struct Packed {
     std::vector<char> spheres, history, bonds;
