@@ -87,7 +87,10 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   std::size_t ncont = 0;
   Worst worst;
   const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pres_.data(), pD_.data(), pedge_.data()};
-#pragma omp parallel if (P >= kOmpMin)
+  if (owned_ && owned_->size() != n) throw std::logic_error("ContactSystem::set_owned: the mask does not match the spheres");
+  const std::uint8_t* own = owned_ && n > 0 ? owned_->data() : nullptr;
+  std::size_t nforeign = 0;
+#pragma omp parallel if (P >= kOmpMin) reduction(+ : nforeign)
   {
     Worst lw;
     std::size_t lc = 0;
@@ -106,6 +109,10 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     for (std::size_t q = 0; q < P; ++q) {
       const std::uint32_t p = sub ? sub->pairs[q] : static_cast<std::uint32_t>(q);
       const std::uint32_t i = pi_[p], j = pj_[p];
+      if (own && !own[i] && !own[j]) {  // both forces are other ranks' (set_owned)
+        ++nforeign;
+        continue;
+      }
       const double reach = sp.s[i] + sp.s[j];
       if (!ph_.active[p] && (sp.x[j] - sp.x[i]).squaredNorm() >= reach * reach) {
         pD_[p] = 0.0;
@@ -131,6 +138,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     }
   }
   st.contacts = ncont;
+  st.foreign_pairs = nforeign;
   const std::size_t nw = walls_.size();
   std::size_t nwc = 0;
   Worst wworst;
@@ -173,6 +181,11 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const std::size_t k = sub ? sub->spheres[r] : r;
       const double h = sub ? sub->hsphere[r] : h0;
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
+      if (own && !own[k]) {  // another rank's sphere: its force is its owner's (set_owned)
+        F[k] = f;
+        T[k] = t;
+        continue;
+      }
       double dk = 0.0;
       if (every)
         sum_pairs(std::true_type{}, k, f, t, dk);

@@ -82,6 +82,7 @@ struct ContactStats {
   /// the pair list was rebuilt from scratch since the previous compute() (local updates are
   /// counted by ContactSystem::local_update_count / reinsert_count)
   bool rebuilt = false;
+  std::size_t foreign_pairs = 0;  ///< pairs skipped as both members' forces are another rank's (set_owned)
 };
 
 class ContactSystem {
@@ -123,6 +124,11 @@ class ContactSystem {
   /// Edge impulses on or off (contact.resolve_edges; off for the first evaluation of a run, whose
   /// overlaps are not onsets).
   void set_edges(bool on) { coeffs_.edges = on && params_.resolve_edges; }
+  /// A domain's local set (mpi/domain_sim.hpp): owned[k] != 0 for the spheres whose forces this
+  /// process uses. compute() then skips the pairs of two others (ghost-ghost pairs: their forces
+  /// are their owners'; their records go stale here, and no rank reads them) and leaves the
+  /// others' F and T zero; the owned spheres' sums are unchanged, bit for bit. null: every sphere.
+  void set_owned(const std::vector<std::uint8_t>* owned) { owned_ = owned; }
   /// compute() restricted to a Subset: F and T are written for its spheres only.
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,
                        const std::vector<Vec3>& wpred, const Subset& sub, std::vector<Vec3>& F,
@@ -192,6 +198,7 @@ class ContactSystem {
   std::vector<Plane> walls_;
   double skin_;
   double reinsert_frac_ = 0.5;
+  const std::vector<std::uint8_t>* owned_ = nullptr;  ///< set_owned (null: every sphere is owned)
 
   // pair list (i < j), sorted
   std::vector<std::uint32_t> pi_, pj_;

@@ -32,8 +32,10 @@
 /// owned member's force is used. The pair's contact history belongs to the rank that owns the
 /// member with the lower global index (the deterministic owner rule): at every exchange that
 /// rank's record is sent to the new owners of both members and imported there, so the history
-/// moves with its owner and the copies never diverge (ghost-ghost pairs, whose forces are unused,
-/// are overwritten from the owner's record at the next exchange).
+/// moves with its owner and the copies never diverge. Ghost-ghost pairs (both forces are other
+/// ranks') are not evaluated (ContactSystem::set_owned; since 2026-12-05, before they were
+/// evaluated and their forces dropped): their records, if any, go stale and are replaced from the
+/// owners' records at the next exchange; the ghosts' F and T are left zero.
 /// Gravity. The tree (gravity.tree): the one-rank octree distributed over the ranks along its
 /// own cells, with locally essential trees (gravity_let.hpp): forces equal the one-rank forces bit
 /// for bit, with O(N/P + N/group) memory and O(N/P) traffic per rank per evaluation. Direct
@@ -105,6 +107,7 @@ struct DomainStats {
   std::int64_t exchanges = 0, rebalances = 0, gravity_gathers = 0, steps = 0;
   std::int64_t level_rounds = 0;  ///< multi-rate equalisation rounds (>= 1 per base step)
   std::int64_t mover_checks = 0;  ///< base steps at which spheres past the exchange distance were checked
+  std::int64_t foreign_pairs = 0;  ///< listed ghost-ghost pairs skipped, summed over the evaluations
   double bytes_halo = 0, bytes_exchange = 0, bytes_gravity = 0, bytes_other = 0;  ///< sent [B]
   double wall_comm = 0;  ///< seconds in communication calls
 };
