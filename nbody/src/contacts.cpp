@@ -171,7 +171,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       dk += 0.5 * pD[p];
     }
   };
-  const bool every = 4 * ncont >= P;
+  const bool every = 4 * ncont >= P - nforeign;  // (the skipped pairs are no one's records here)
 #pragma omp parallel if (ns >= kOmpMin)
   {
     Worst lw;

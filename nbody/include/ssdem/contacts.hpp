@@ -126,8 +126,9 @@ class ContactSystem {
   void set_edges(bool on) { coeffs_.edges = on && params_.resolve_edges; }
   /// A domain's local set (mpi/domain_sim.hpp): owned[k] != 0 for the spheres whose forces this
   /// process uses. compute() then skips the pairs of two others (ghost-ghost pairs: their forces
-  /// are their owners'; their records go stale here, and no rank reads them) and leaves the
-  /// others' F and T zero; the owned spheres' sums are unchanged, bit for bit. null: every sphere.
+  /// are their owners'; their records go stale here, so a caller of export_history keeps only the
+  /// records of owned spheres, as DomainSim::owned_history does) and sets the others' contact F
+  /// and T to zero; the owned spheres' sums are unchanged, bit for bit. null: every sphere.
   void set_owned(const std::vector<std::uint8_t>* owned) { owned_ = owned; }
   /// compute() restricted to a Subset: F and T are written for its spheres only.
   ContactStats compute(const Spheres& sp, const std::vector<Vec3>& vpred,

@@ -121,7 +121,7 @@ TEST(MpiBlocks, FreshStartFromBlocksEqualsOneRank) {
   // no rank evaluated the pairs of two ghosts (ContactSystem::set_owned); there were some
   long long foreign = d.stats().foreign_pairs;
   world().sum(&foreign, 1);
-  EXPECT_GT(foreign, 0);
+  if (world().size > 1) EXPECT_GT(foreign, 0);
   if (ref) {
     const double diff = state_diff(got, ref->state());
     std::printf("ghost-ghost pairs skipped over 300 steps, all ranks: %lld\n", foreign);

@@ -35,7 +35,7 @@
 /// moves with its owner and the copies never diverge. Ghost-ghost pairs (both forces are other
 /// ranks') are not evaluated (ContactSystem::set_owned; since 2026-12-05, before they were
 /// evaluated and their forces dropped): their records, if any, go stale and are replaced from the
-/// owners' records at the next exchange; the ghosts' F and T are left zero.
+/// owners' records at the next exchange; the ghosts' contact F and T are zero.
 /// Gravity. The tree (gravity.tree): the one-rank octree distributed over the ranks along its
 /// own cells, with locally essential trees (gravity_let.hpp): forces equal the one-rank forces bit
 /// for bit, with O(N/P + N/group) memory and O(N/P) traffic per rank per evaluation. Direct
