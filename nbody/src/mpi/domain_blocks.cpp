@@ -149,9 +149,9 @@ std::vector<HistoryRecord> DomainSim::route_block_history(const SimState& b, std
   // 2. each record to dir(id_a): its owner there
   for (auto& o : out) o.clear();
   for (const HistoryRecord& r : b.history) put(out[dir_of(r.id_a, P)], r);
-  struct Routed {
+  struct Routed {  // (the owner widened: no padding bytes are sent)
     HistoryRecord r;
-    std::int32_t owner_a;
+    std::uint64_t owner_a;
   };
   const std::vector<HistoryRecord> at_a = unpack_all<HistoryRecord>(comm_.alltoallv(out));
   std::vector<std::vector<char>> deliver(P);
@@ -167,7 +167,7 @@ std::vector<HistoryRecord> DomainSim::route_block_history(const SimState& b, std
     if (is_wall(r))
       put(deliver[oa], r);  // a wall contact lives with its sphere
     else
-      put(out[dir_of(r.id_b, P)], Routed{r, oa});
+      put(out[dir_of(r.id_b, P)], Routed{r, static_cast<std::uint64_t>(oa)});
   }
   // 3. pair records to dir(id_b), which sends them to both owners
   for (const Routed& q : unpack_all<Routed>(comm_.alltoallv(out))) {
@@ -176,8 +176,9 @@ std::vector<HistoryRecord> DomainSim::route_block_history(const SimState& b, std
       unknown_pair = true;
       continue;
     }
-    put(deliver[q.owner_a], q.r);
-    if (ob != q.owner_a) put(deliver[ob], q.r);
+    const int oa = static_cast<int>(q.owner_a);
+    put(deliver[oa], q.r);
+    if (ob != oa) put(deliver[ob], q.r);
   }
   if (!comm_.all(!unknown_pair)) throw common::InputError("checkpoint contact history names an unknown sphere id");
   if (!comm_.all(!unknown_wall)) throw common::InputError("checkpoint wall history names an unknown sphere or wall");

@@ -101,7 +101,8 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     std::string ck_ident;
     const CheckpointShape shape = checkpoint_shape(restart);
     const bool blocks = !shape.bonds;  // with bonds every rank reads the whole checkpoint
-    SimState st = blocks ? read_checkpoint_rows(restart, block_rows(comm, shape.spheres), block_rows(comm, shape.history),
+    const common::h5::RowRange sph = block_rows(comm, shape.spheres);
+    SimState st = blocks ? read_checkpoint_rows(restart, sph, block_rows(comm, shape.history),
                                                 &dt0, &every0, &kn0, &ck_ident)
                          : read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
     if (!ck_ident.empty()) {
@@ -129,8 +130,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     st.gravity_block = every0;
     energy0 = st.energy0;
     if (blocks) {
-      const std::size_t first = common::mpi::dense_first(shape.spheres, comm.size, comm.rank);
-      sim = std::make_unique<DomainSim>(comm, st, DomainSim::Block{first, sum, true, restart}, cfg);
+      sim = std::make_unique<DomainSim>(comm, st, DomainSim::Block{sph.offset, sum, true, restart}, cfg);
       input_line = block_line(comm, shape.spheres);
     } else {
       sim = std::make_unique<DomainSim>(comm, st, cfg);
