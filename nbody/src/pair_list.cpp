@@ -51,22 +51,21 @@ std::uint64_t ContactSystem::cell_of(const Vec3& x) const {
 void ContactSystem::link(std::uint32_t i) {
   const std::uint64_t k = cell_of(xref_[i]);
   ckey_[i] = k;
-  auto it = head_.try_emplace(k, kNone).first;
-  next_[i] = it->second;
+  std::uint32_t& head = head_.get_or_insert(k, kNone);
+  next_[i] = head;
   prev_[i] = kNone;
-  if (it->second != kNone) prev_[it->second] = i;
-  it->second = i;
+  if (head != kNone) prev_[head] = i;
+  head = i;
 }
 
 void ContactSystem::unlink(std::uint32_t i) {
   if (prev_[i] != kNone) {
     next_[prev_[i]] = next_[i];
   } else {
-    auto it = head_.find(ckey_[i]);
     if (next_[i] == kNone)
-      head_.erase(it);
+      head_.erase(ckey_[i]);
     else
-      it->second = next_[i];
+      *head_.find(ckey_[i]) = next_[i];
   }
   if (next_[i] != kNone) prev_[next_[i]] = prev_[i];
   next_[i] = prev_[i] = kNone;
@@ -85,9 +84,9 @@ void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) con
       for (std::int64_t dz = -1; dz <= 1; ++dz) {
         const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
         if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        auto it = head_.find(cell_key(X, Y, Z));
-        if (it == head_.end()) continue;
-        for (std::uint32_t j = it->second; j != kNone; j = next_[j]) {
+        const std::uint32_t* head = head_.find(cell_key(X, Y, Z));
+        if (!head) continue;
+        for (std::uint32_t j = *head; j != kNone; j = next_[j]) {
           if (j == i) continue;
           // same operand order as the test for (min, max): the set is symmetric bit for bit
           const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
@@ -106,9 +105,9 @@ void ContactSystem::near_point(const Vec3& x, std::vector<std::uint32_t>& out) c
       for (std::int64_t dz = -1; dz <= 1; ++dz) {
         const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
         if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        const auto it = head_.find(cell_key(X, Y, Z));
-        if (it == head_.end()) continue;
-        for (std::uint32_t j = it->second; j != kNone; j = next_[j]) out.push_back(j);
+        const std::uint32_t* head = head_.find(cell_key(X, Y, Z));
+        if (!head) continue;
+        for (std::uint32_t j = *head; j != kNone; j = next_[j]) out.push_back(j);
       }
 }
 
@@ -149,9 +148,11 @@ bool ContactSystem::local_update(const Spheres& sp) {
     return true;
   }
   reinserts_ += moved_.size();
-  mark_.assign(n, 0);
+  if (n < kOmpMin) {  // (the parallel test above left mark_ holding the moved flags)
+    mark_.assign(n, 0);
+    for (std::uint32_t i : moved_) mark_[i] = 1;
+  }
   for (std::uint32_t i : moved_) {
-    mark_[i] = 1;
     unlink(i);
     xref_[i] = sp.x[i];
     link(i);
@@ -254,8 +255,7 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   double smax = 0.0;
   for (std::size_t i = 0; i < n; ++i) smax = std::max(smax, sp.s[i]);
   cell_ = std::max(2.0 * smax + skin_, 1e-300);
-  head_.clear();
-  head_.reserve(n);
+  head_.reset(n);
   next_.assign(n, kNone);
   prev_.assign(n, kNone);
   ckey_.assign(n, 0);

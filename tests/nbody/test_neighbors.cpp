@@ -211,3 +211,54 @@ TEST(Neighbors, FewRebuildsOnDebris) {
   EXPECT_GE(cs.reinsert_count(), 5u * (steps - 1));  // the fragments, every step
   EXPECT_LT(cs.reinsert_count(), 5u * steps + sp.size());
 }
+
+// A rebuilt list holds exactly the pairs within reach (|x_i - x_j| < s_i + s_j + skin), against
+// brute force on polydisperse spheres (radii 0.2-3, reach often far below the cell edge
+// 2 s_max + skin), far from the origin (rounding of the cell index), with a third of them moved
+// onto cell faces, edges and corners, and after re-insertions of a moving subset (the cell
+// table's erase and insert, cell_table.hpp).
+TEST(Neighbors, ListIsExactlyThePairsWithinReach) {
+  for (double origin : {0.0, -3.7e6, 2.5e8}) {
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    Spheres sp;
+    const std::size_t n = 3000;
+    for (std::size_t i = 0; i < n; ++i) {
+      const double s = 0.2 * std::pow(15.0, U(rng));
+      sp.push(static_cast<std::uint64_t>(i), Vec3(origin + 40.0 * U(rng), origin + 40.0 * U(rng), 40.0 * U(rng)),
+              Vec3::Zero(), Vec3::Zero(), 1000.0 * s * s * s, s);
+    }
+    const double skin = 0.7;
+    ContactSystem cs(linear(0), {}, skin);
+    cs.set_reinsert_fraction(0.25);  // multi-rate's: every pair with a gap below skin/2 listed
+    cs.update_neighbors(sp, true);
+    const double c = cs.cell_edge();
+    for (std::size_t i = 0; i < n; i += 3)  // onto a face, an edge or a corner of the grid
+      for (int a = 0; a < 1 + static_cast<int>(i % 9) / 3; ++a) sp.x[i][a] = std::round(sp.x[i][a] / c) * c;
+    auto check = [&](const char* what) {
+      std::size_t within = 0, wrong = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        for (std::size_t j = i + 1; j < n; ++j) {
+          const double r = sp.s[i] + sp.s[j] + skin;
+          const bool in = (sp.x[j] - sp.x[i]).squaredNorm() < r * r;
+          within += in;
+          wrong += in != cs.listed(i, j);
+        }
+      EXPECT_EQ(wrong, 0u) << what << ", origin " << origin << ": " << within << " pairs within reach";
+      EXPECT_GT(within, 2 * n);  // the test has pairs to find
+    };
+    cs.update_neighbors(sp, true);
+    EXPECT_NEAR(cs.cell_edge(), c, 1e-12 * c);
+    check("rebuilt");
+    for (std::size_t i = 1; i < n; i += 5) sp.x[i] += Vec3(0.4, -0.3, 0.5);  // past skin/4: re-inserted
+    EXPECT_FALSE(cs.update_neighbors(sp));  // a local update (a fifth moved)
+    // it lists every pair with a gap below skin/2 (new pairs farther apart wait to be merged);
+    // a rebuild from the same positions gives exactly the pairs within reach again
+    std::size_t found = 0;
+    const std::size_t missed_pairs = missed(cs, sp, found, 0.5 * skin);
+    EXPECT_GT(found, n / 2);
+    EXPECT_EQ(missed_pairs, 0u) << "origin " << origin << ", after re-insertion";
+    cs.update_neighbors(sp, true);
+    check("rebuilt after moves");
+  }
+}

@@ -50,10 +50,10 @@
 /// imported for checkpoints keyed by ids.
 #pragma once
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include "common/exact_sum.hpp"
+#include "ssdem/cell_table.hpp"
 #include "ssdem/contact_law.hpp"
 #include "ssdem/spheres.hpp"
 
@@ -219,7 +219,7 @@ class ContactSystem {
   std::vector<Vec3> xref_;  // reference positions r_i
   // cell grid of the reference positions: cell key -> first sphere, doubly linked per cell
   double cell_ = 0.0;
-  std::unordered_map<std::uint64_t, std::uint32_t> head_;
+  CellTable head_;
   std::vector<std::uint32_t> next_, prev_;
   std::vector<std::uint64_t> ckey_;
   std::vector<std::uint8_t> mark_;   // scratch: sphere in the moved set
