@@ -89,8 +89,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   const pair_batch::Arrays arr{sp, vpred, wpred, pi_.data(), pj_.data(), ph_, pres_.data(), pD_.data(), pedge_.data()};
   if (owned_ && owned_->size() != n) throw std::logic_error("ContactSystem::set_owned: the mask does not match the spheres");
   const std::uint8_t* own = owned_ && n > 0 ? owned_->data() : nullptr;
-  std::size_t nforeign = 0;
-#pragma omp parallel if (P >= kOmpMin) reduction(+ : nforeign)
+  std::size_t nforeign = 0, nkernel = 0, nshared = 0;
+#pragma omp parallel if (P >= kOmpMin) reduction(+ : nforeign, nkernel, nshared)
   {
     Worst lw;
     std::size_t lc = 0;
@@ -122,6 +122,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         }
         continue;
       }
+      ++nkernel;
+      if (own && !(own[i] && own[j])) ++nshared;
       rows[nl] = p;
       hs[nl] = sub ? sub->hpair[q] : h0;
       ws[nl] = whole ? whole[q] : 1;
@@ -139,6 +141,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   }
   st.contacts = ncont;
   st.foreign_pairs = nforeign;
+  st.kernel_pairs = nkernel;
+  st.shared_pairs = nshared;
   const std::size_t nw = walls_.size();
   std::size_t nwc = 0;
   Worst wworst;

@@ -79,20 +79,27 @@ void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) con
   const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
   const Vec3 xi = xref_[i];
   const double si = sp.s[i];
+  // the 27 cells' table slots prefetched first, so that their cache misses overlap
+  std::uint64_t keys[27];
+  int nk = 0;
   for (std::int64_t dx = -1; dx <= 1; ++dx)
     for (std::int64_t dy = -1; dy <= 1; ++dy)
       for (std::int64_t dz = -1; dz <= 1; ++dz) {
         const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
         if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        const std::uint32_t* head = head_.find(cell_key(X, Y, Z));
-        if (!head) continue;
-        for (std::uint32_t j = *head; j != kNone; j = next_[j]) {
-          if (j == i) continue;
-          // same operand order as the test for (min, max): the set is symmetric bit for bit
-          const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
-          if ((xref_[j] - xi).squaredNorm() < reach * reach) f(j);
-        }
+        keys[nk] = cell_key(X, Y, Z);
+        head_.prefetch(keys[nk++]);
       }
+  for (int q = 0; q < nk; ++q) {
+    const std::uint32_t* head = head_.find(keys[q]);
+    if (!head) continue;
+    for (std::uint32_t j = *head; j != kNone; j = next_[j]) {
+      if (j == i) continue;
+      // same operand order as the test for (min, max): the set is symmetric bit for bit
+      const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
+      if ((xref_[j] - xi).squaredNorm() < reach * reach) f(j);
+    }
+  }
 }
 
 void ContactSystem::near_point(const Vec3& x, std::vector<std::uint32_t>& out) const {

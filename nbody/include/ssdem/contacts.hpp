@@ -83,6 +83,8 @@ struct ContactStats {
   /// counted by ContactSystem::local_update_count / reinsert_count)
   bool rebuilt = false;
   std::size_t foreign_pairs = 0;  ///< pairs skipped as both members' forces are another rank's (set_owned)
+  std::size_t kernel_pairs = 0;   ///< pairs evaluated by the kernel (overlapping or in contact)
+  std::size_t shared_pairs = 0;   ///< of those, pairs with a member not owned here (set_owned): also evaluated by its owner
 };
 
 class ContactSystem {

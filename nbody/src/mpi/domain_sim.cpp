@@ -183,6 +183,8 @@ void DomainSim::compute_forces(bool initial) {
     const double t1 = omp_get_wtime();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
     stats_.foreign_pairs += static_cast<std::int64_t>(cstats_.foreign_pairs);
+    stats_.kernel_pairs += static_cast<std::int64_t>(cstats_.kernel_pairs);
+    stats_.shared_pairs += static_cast<std::int64_t>(cstats_.shared_pairs);
     // bonds: in bond order after the contacts, with the half-step velocities (as Simulation)
     if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
     times_.neighbours += t1 - t0;

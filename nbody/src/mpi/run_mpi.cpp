@@ -284,7 +284,9 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
   if (cfg.multirate)
     os << "; multi-rate equalisation rounds " << ds.level_rounds << " in " << ds.steps << " base steps";
   os << "; steps with a mover check " << ds.mover_checks;
-  if (cfg.contacts) os << "; ghost-ghost pairs skipped " << ds.foreign_pairs;
+  if (cfg.contacts)
+    os << "; ghost-ghost pairs skipped " << ds.foreign_pairs << "; pair evaluations " << ds.kernel_pairs
+       << ", of which with a ghost member (also evaluated on its owner) " << ds.shared_pairs;
   if (sim->global_bonds() > 0) os << "; bonds held " << sim->local_bonds() << " (those across ranks on both)";
   if (const DistributedTree* tr = sim->tree(); tr && tr->stats().evaluations > 0) {
     const LetStats& g = tr->stats();

@@ -108,6 +108,9 @@ struct DomainStats {
   std::int64_t level_rounds = 0;  ///< multi-rate equalisation rounds (>= 1 per base step)
   std::int64_t mover_checks = 0;  ///< base steps at which spheres past the exchange distance were checked
   std::int64_t foreign_pairs = 0;  ///< listed ghost-ghost pairs skipped, summed over the evaluations
+  /// pair evaluations by the kernel, and those of a pair with a ghost member (the ghost's owner
+  /// evaluates the pair too: a pair across two ranks is computed on both), summed likewise
+  std::int64_t kernel_pairs = 0, shared_pairs = 0;
   double bytes_halo = 0, bytes_exchange = 0, bytes_gravity = 0, bytes_other = 0;  ///< sent [B]
   double wall_comm = 0;  ///< seconds in communication calls
 };
