@@ -302,7 +302,7 @@ double ContactSystem::bytes_per_sphere(std::size_t n) const {
   const double P = static_cast<double>(pi_.size());
   const double per_pair = 4 + 4 + 3 * 24 + 8 + 4 + ph_.bytes_per_row();  // pi, pj, results, jpair, history
   double b = P * per_pair + 8.0 * (n + 1) + 24.0 * n;  // irow/jrow, xref
-  b += 16.0 * static_cast<double>(n) + static_cast<double>(head_.bytes());  // cell grid: links, keys, table
+  b += 17.0 * static_cast<double>(n) + static_cast<double>(head_.bytes() + fhead_.bytes());  // grids: links, keys, flags, tables
   b += static_cast<double>(wh_.size()) * wh_.bytes_per_row();
   return b / static_cast<double>(n);
 }

@@ -1,8 +1,8 @@
 /// @file pair_list.cpp
-/// The contact pair list of ContactSystem: the hashed cell grid of reference positions, the
+/// The contact pair list of ContactSystem (its cell grids: pair_grid.hpp): the
 /// incremental update (re-insertion of the spheres that moved more than skin/2) and full rebuilds.
 /// The rule and its no-miss criterion are stated in contacts.hpp.
-#include "ssdem/contacts.hpp"
+#include "pair_grid.hpp"
 
 #include <algorithm>
 #include <iterator>
@@ -18,13 +18,7 @@ namespace ssdem {
 namespace {
 // Below this many items a loop runs serially (thread start-up would dominate).
 constexpr std::size_t kOmpMin = 2048;
-constexpr int kCellBits = 21;
-constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
-constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
-inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
-  return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
-         (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
-}
+using grid::kNone;
 }  // namespace
 
 bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
@@ -36,88 +30,6 @@ bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
   return local_update(sp);
 }
 
-std::uint64_t ContactSystem::cell_of(const Vec3& x) const {
-  // floor(x / c) offset by 2^20 and clamped to 21 bits per axis (monotone, so spheres within one
-  // cell edge of each other still land in the same or adjacent cells; NaN goes to cell 0).
-  auto q = [&](double v) -> std::int64_t {
-    const double f = std::floor(v / cell_) + static_cast<double>(std::int64_t{1} << 20);
-    if (!(f > 0.0)) return 0;
-    if (f >= static_cast<double>(kCellMax)) return kCellMax;
-    return static_cast<std::int64_t>(f);
-  };
-  return cell_key(q(x.x()), q(x.y()), q(x.z()));
-}
-
-void ContactSystem::link(std::uint32_t i) {
-  const std::uint64_t k = cell_of(xref_[i]);
-  ckey_[i] = k;
-  std::uint32_t& head = head_.get_or_insert(k, kNone);
-  next_[i] = head;
-  prev_[i] = kNone;
-  if (head != kNone) prev_[head] = i;
-  head = i;
-}
-
-void ContactSystem::unlink(std::uint32_t i) {
-  if (prev_[i] != kNone) {
-    next_[prev_[i]] = next_[i];
-  } else {
-    if (next_[i] == kNone)
-      head_.erase(ckey_[i]);
-    else
-      *head_.find(ckey_[i]) = next_[i];
-  }
-  if (next_[i] != kNone) prev_[next_[i]] = prev_[i];
-  next_[i] = prev_[i] = kNone;
-}
-
-template <class F>
-void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const {
-  const std::uint64_t k = ckey_[i];
-  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
-  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
-  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
-  const Vec3 xi = xref_[i];
-  const double si = sp.s[i];
-  // the 27 cells' table slots prefetched first, so that their cache misses overlap
-  std::uint64_t keys[27];
-  int nk = 0;
-  for (std::int64_t dx = -1; dx <= 1; ++dx)
-    for (std::int64_t dy = -1; dy <= 1; ++dy)
-      for (std::int64_t dz = -1; dz <= 1; ++dz) {
-        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
-        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        keys[nk] = cell_key(X, Y, Z);
-        head_.prefetch(keys[nk++]);
-      }
-  for (int q = 0; q < nk; ++q) {
-    const std::uint32_t* head = head_.find(keys[q]);
-    if (!head) continue;
-    for (std::uint32_t j = *head; j != kNone; j = next_[j]) {
-      if (j == i) continue;
-      // same operand order as the test for (min, max): the set is symmetric bit for bit
-      const double reach = i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_;
-      if ((xref_[j] - xi).squaredNorm() < reach * reach) f(j);
-    }
-  }
-}
-
-void ContactSystem::near_point(const Vec3& x, std::vector<std::uint32_t>& out) const {
-  const std::uint64_t k = cell_of(x);
-  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
-  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
-  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
-  for (std::int64_t dx = -1; dx <= 1; ++dx)
-    for (std::int64_t dy = -1; dy <= 1; ++dy)
-      for (std::int64_t dz = -1; dz <= 1; ++dz) {
-        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
-        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        const std::uint32_t* head = head_.find(cell_key(X, Y, Z));
-        if (!head) continue;
-        for (std::uint32_t j = *head; j != kNone; j = next_[j]) out.push_back(j);
-      }
-}
-
 bool ContactSystem::listed(std::size_t a, std::size_t b) const {
   if (a > b) std::swap(a, b);
   if (a + 1 >= irow_.size()) return false;
@@ -127,19 +39,22 @@ bool ContactSystem::listed(std::size_t a, std::size_t b) const {
 
 bool ContactSystem::local_update(const Spheres& sp) {
   const std::size_t n = sp.size();
-  const double lim2 = reinsert_frac_ * reinsert_frac_ * skin_ * skin_;
+  // re-insertion distance: f k, or f k + M for an isolated sphere (its margin)
+  const double lim2[2] = {reinsert_frac_ * reinsert_frac_ * skin_ * skin_,
+                          (reinsert_frac_ * skin_ + margin_) * (reinsert_frac_ * skin_ + margin_)};
   moved_.clear();
   if (n >= kOmpMin) {
     mark_.resize(n);
     const Vec3* x = sp.x.data();  // (taken once: the byte stores may alias the vectors)
     const Vec3* xr = xref_.data();
+    const std::uint8_t* fs = fast_.data();
     std::uint8_t* mk = mark_.data();
 #pragma omp parallel for schedule(static)
-    for (std::size_t i = 0; i < n; ++i) mk[i] = (x[i] - xr[i]).squaredNorm() > lim2 ? 1 : 0;
+    for (std::size_t i = 0; i < n; ++i) mk[i] = (x[i] - xr[i]).squaredNorm() > lim2[fs[i]] ? 1 : 0;
     for_each_flagged(mark_.data(), n, [&](std::size_t i) { moved_.push_back(static_cast<std::uint32_t>(i)); });
   } else {
     for (std::size_t i = 0; i < n; ++i)
-      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2) moved_.push_back(static_cast<std::uint32_t>(i));
+      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2[fast_[i]]) moved_.push_back(static_cast<std::uint32_t>(i));
   }
   // a waiting pair must be listed once its gap falls below (1 - 2 f) skin (the list's promise)
   const double gl = (1.0 - 2.0 * reinsert_frac_) * skin_;
@@ -159,16 +74,28 @@ bool ContactSystem::local_update(const Spheres& sp) {
     mark_.assign(n, 0);
     for (std::uint32_t i : moved_) mark_[i] = 1;
   }
-  for (std::uint32_t i : moved_) {
+  for (std::uint32_t i : moved_) {  // back into the ordinary grid at its new position
     unlink(i);
+    fast_[i] = 0;
     xref_[i] = sp.x[i];
     link(i);
   }
+  // then, in ascending order, each that has no partner within the larger reach takes the margin
+  // (each test sees the earlier ones' margins: at the end every isolated sphere is still
+  // isolated, so it has no pair within reach and needs no search below)
+  if (margins_on_ && margin_ > 0.0)
+    for (std::uint32_t i : moved_)
+      if (isolated(sp, i)) {
+        unlink(i);
+        fast_[i] = 1;
+        link(i);
+        ++promotions_;
+      }
   auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
   std::vector<std::uint64_t> nk;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
   for (std::uint32_t i : moved_) {
-    for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
+    if (!fast_[i]) for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
     for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
     for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
       const std::uint32_t p = jpair_[q];
@@ -262,7 +189,12 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   double smax = 0.0;
   for (std::size_t i = 0; i < n; ++i) smax = std::max(smax, sp.s[i]);
   cell_ = std::max(2.0 * smax + skin_, 1e-300);
+  margin_ = cell_;  // M = c: an isolated sphere's reach in the ordinary grid is at most 2 c
+  fcell_ = cell_ + 2.0 * margin_;
   head_.reset(n);
+  fhead_.reset(0);
+  fhead_count_ = 0;
+  fast_.assign(n, 0);
   next_.assign(n, kNone);
   prev_.assign(n, kNone);
   ckey_.assign(n, 0);

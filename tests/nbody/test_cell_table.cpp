@@ -1,7 +1,8 @@
 /// @file test_cell_table.cpp
 /// The contact list's cell index (cell_table.hpp): against std::map under random inserts and
-/// erases (long probe runs in a nearly full table, wrap-around at the table's end, growth). The
-/// list built on it is checked against brute force in test_neighbors.cpp.
+/// erases (growth from 16 slots, repeated hits on the same runs), a 64 000-key block of grid keys,
+/// and a probe run that wraps past the table's end, erased from its start. The list built on it
+/// is checked against brute force in test_neighbors.cpp.
 #include <gtest/gtest.h>
 
 #include <map>
@@ -94,4 +95,37 @@ TEST(CellTable, NeighbouringCellKeysAndWrapAround) {
   t.reset(10);
   EXPECT_EQ(t.size(), 0u);
   EXPECT_EQ(t.find(universe[1]), nullptr);
+}
+
+TEST(CellTable, EraseShiftsARunThatWrapsPastTheEnd) {
+  // Keys chosen by the table's hash (Fibonacci, top 4 bits of k * 0x9E3779B97F4A7C15 for 16
+  // slots): A, B, C start at the last slot, D at slot 0. Inserted A, B, D, C they fill slots
+  // 15, 0, 1, 2 (B and C wrap round the end, D is pushed by B). Erasing A must move B to 15, D to
+  // 0 and C to 1; erasing B then moves D and C up again.
+  auto home = [](std::uint64_t k) { return (k * 0x9E3779B97F4A7C15ull) >> 60; };
+  std::vector<std::uint64_t> last, first;
+  for (std::uint64_t k = 1; last.size() < 3 || first.empty(); ++k) {
+    if (home(k) == 15 && last.size() < 3) last.push_back(k);
+    if (home(k) == 0 && first.empty()) first.push_back(k);
+  }
+  const std::uint64_t A = last[0], B = last[1], C = last[2], D = first[0];
+  CellTable t;
+  t.reset(4);
+  ASSERT_EQ(t.capacity(), 16u);
+  t.get_or_insert(A, 1);
+  t.get_or_insert(B, 2);
+  t.get_or_insert(D, 4);
+  t.get_or_insert(C, 3);
+  t.erase(A);
+  EXPECT_EQ(t.find(A), nullptr);
+  for (auto [k, v] : {std::pair{B, 2u}, {C, 3u}, {D, 4u}}) {
+    ASSERT_NE(t.find(k), nullptr) << "key " << k << " lost by the shift";
+    EXPECT_EQ(*t.find(k), v);
+  }
+  t.erase(B);
+  for (auto [k, v] : {std::pair{C, 3u}, {D, 4u}}) {
+    ASSERT_NE(t.find(k), nullptr) << "key " << k << " lost by the shift";
+    EXPECT_EQ(*t.find(k), v);
+  }
+  EXPECT_EQ(t.size(), 2u);
 }

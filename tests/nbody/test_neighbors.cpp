@@ -64,6 +64,7 @@ ContactParams linear(unsigned parts) {
 // and with re-insertion at skin/4 (multi-rate) no pair closer than skin/2 either, although new
 // pairs wait to be merged until one is that close.
 TEST(Neighbors, NoMissedContactFastFragments) {
+  for (bool margins : {true, false})  // isolated spheres' margins (contacts.hpp) on and off
   for (double f : {0.5, 0.25})
   for (double skin : {0.0, 0.1, 0.5, 2.0}) {
     Spheres sp = moving_pile(6.0, 0.1, 50.0, 7);
@@ -72,6 +73,7 @@ TEST(Neighbors, NoMissedContactFastFragments) {
     sp.push(1000001, Vec3(0.4, -8.5, 0.1), Vec3(0, 100.0, 0), Vec3::Zero(), 1.0, 1.2);
     ContactSystem cs(linear(0), {}, skin);
     cs.set_reinsert_fraction(f);
+    cs.set_margins(margins);
     const double dt = 1e-4;  // fast fragment: 0.5 m per step; pile: up to 0.005 m per step
     std::size_t found = 0, fast_found = 0, miss = 0;
     for (int step = 0; step < 600; ++step) {
@@ -84,10 +86,15 @@ TEST(Neighbors, NoMissedContactFastFragments) {
         }
       for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
     }
-    EXPECT_EQ(miss, 0u) << "skin " << skin << ", re-insertion at " << f << " skin";
+    EXPECT_EQ(miss, 0u) << "skin " << skin << ", re-insertion at " << f << " skin, margins " << margins;
     EXPECT_GT(found, 1000u);
     EXPECT_GT(fast_found, 50u) << "the fragments must actually meet the pile";
-    EXPECT_GT(cs.reinsert_count() + cs.rebuild_count(), 100u);
+    EXPECT_GT(cs.reinsert_count() + cs.rebuild_count(), 50u);
+    if (margins && skin > 0.0) {  // (skin 0: every moving sphere re-inserts, a rebuild each step)
+      EXPECT_GT(cs.margin_count(), 0u) << "the fragments fly alone first: they take margins";
+    } else if (!margins) {
+      EXPECT_EQ(cs.margin_count(), 0u);
+    }
     if (skin > 0.0) {
       EXPECT_LT(cs.rebuild_count(), 600u / 4) << "skin " << skin;
     }
@@ -200,16 +207,34 @@ TEST(Neighbors, FewRebuildsOnDebris) {
   for (int k = 0; k < 5; ++k)
     sp.push(900000 + k, Vec3(10.0 + k, 3.0 * k, 0.0),
             1000.0 * Vec3(1.0, 0.1 * k, -0.05 * k).normalized(), Vec3::Zero(), 1.0, 0.5);
-  ContactSystem cs(linear(0), {}, 0.1);
+  const Spheres start = sp;
   const double dt = 1e-3;
   const int steps = 1000;
+  {
+    ContactSystem cs(linear(0), {}, 0.1);
+    cs.set_margins(false);
+    for (int s = 0; s < steps; ++s) {
+      cs.update_neighbors(sp);
+      for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
+    }
+    EXPECT_LE(cs.rebuild_count(), 5u);                 // vs `steps` with the old rule
+    EXPECT_GE(cs.reinsert_count(), 5u * (steps - 1));  // the fragments, every step
+    EXPECT_LT(cs.reinsert_count(), 5u * steps + sp.size());
+  }
+  // With margins (the default) a lone fragment, 1 m per step, is re-inserted once its travel
+  // passes f k + M = 0.05 + (2 s_max + k) = 2.15 m, every third step, and takes the margin again
+  // each time once the five have drifted apart.
+  sp = start;
+  ContactSystem cs(linear(0), {}, 0.1);
   for (int s = 0; s < steps; ++s) {
     cs.update_neighbors(sp);
     for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
   }
-  EXPECT_LE(cs.rebuild_count(), 5u);                 // vs `steps` with the old rule
-  EXPECT_GE(cs.reinsert_count(), 5u * (steps - 1));  // the fragments, every step
-  EXPECT_LT(cs.reinsert_count(), 5u * steps + sp.size());
+  EXPECT_LE(cs.rebuild_count(), 5u);
+  EXPECT_GE(cs.reinsert_count(), 5u * (steps / 3 - 1));
+  EXPECT_LT(cs.reinsert_count(), 5u * (steps / 3 + 1) + sp.size());
+  EXPECT_GE(cs.margin_count(), 5u * (steps / 3) * 9 / 10);
+  EXPECT_EQ(cs.fast_spheres(), 5u);
 }
 
 // A rebuilt list holds exactly the pairs within reach (|x_i - x_j| < s_i + s_j + skin), against
@@ -218,14 +243,14 @@ TEST(Neighbors, FewRebuildsOnDebris) {
 // onto cell faces, edges and corners, and after re-insertions of a moving subset (the cell
 // table's erase and insert, cell_table.hpp).
 TEST(Neighbors, ListIsExactlyThePairsWithinReach) {
-  for (double origin : {0.0, -3.7e6, 2.5e8}) {
+  for (double origin : {0.0, -3.7e6, 5.5e6}) {  // (|x| / c < 2^20: no cell index clamped)
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     Spheres sp;
     const std::size_t n = 3000;
     for (std::size_t i = 0; i < n; ++i) {
       const double s = 0.2 * std::pow(15.0, U(rng));
-      sp.push(static_cast<std::uint64_t>(i), Vec3(origin + 40.0 * U(rng), origin + 40.0 * U(rng), 40.0 * U(rng)),
+      sp.push(static_cast<std::uint64_t>(i), Vec3(origin + 40.0 * U(rng), origin + 40.0 * U(rng), origin + 40.0 * U(rng)),
               Vec3::Zero(), Vec3::Zero(), 1000.0 * s * s * s, s);
     }
     const double skin = 0.7;

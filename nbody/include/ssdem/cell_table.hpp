@@ -49,7 +49,8 @@ class CellTable {
     if (!slots_.empty()) __builtin_prefetch(&slots_[slot(k)]);
   }
 
-  /// The value of key k, inserted with value v when absent.
+  /// The value of key k, inserted with value v when absent. The reference is valid until the next
+  /// get_or_insert (which may grow the table) or erase (which may shift entries).
   std::uint32_t& get_or_insert(std::uint64_t k, std::uint32_t v) {
     if (2 * (size_ + 1) > slots_.size()) grow();
     const std::size_t m = slots_.size() - 1;

@@ -136,9 +136,7 @@ void DomainSim::multirate_forces(const Substep& ss) {
     for (std::size_t r = 0; r < na; ++r) subset_.hsphere[r] = static_cast<double>(step_ - topen_[active_[r]]) * h;
     take_subset(subsets_, ss.tz, *contacts_, active_, lr_.sync, topen_, step_, h, subset_off_, subset_);
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, subset_, F_, T_, sp_.dissipated.data());
-    stats_.foreign_pairs += static_cast<std::int64_t>(cstats_.foreign_pairs);
-    stats_.kernel_pairs += static_cast<std::int64_t>(cstats_.kernel_pairs);
-    stats_.shared_pairs += static_cast<std::int64_t>(cstats_.shared_pairs);
+    stats_.add(cstats_);
     keep_subset(subsets_, ss.tz, subset_);
     // bonds of synchronised spheres (both ends together: the equalisation), each with its step
     if (bonds_) bonds_->compute_synchronised(sp_, lr_.sync, topen_, step_, h, F_, T_);

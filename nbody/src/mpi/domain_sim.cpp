@@ -36,6 +36,7 @@ void DomainSim::setup_config(const SphereSummary& sum) {
     reach_ = 2.0 * smax_ + skin_;
     contacts_ = std::make_unique<ContactSystem>(cfg_.contact, cfg_.walls, skin_);
     contacts_->set_owned(&mine_);  // no ghost-ghost pair is evaluated
+    contacts_->set_margins(false);  // the movers' near_point searches the ordinary grid
   } else {
     reach_ = -1.0;  // no ghosts
   }
@@ -182,9 +183,7 @@ void DomainSim::compute_forces(bool initial) {
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
     const double t1 = omp_get_wtime();
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
-    stats_.foreign_pairs += static_cast<std::int64_t>(cstats_.foreign_pairs);
-    stats_.kernel_pairs += static_cast<std::int64_t>(cstats_.kernel_pairs);
-    stats_.shared_pairs += static_cast<std::int64_t>(cstats_.shared_pairs);
+    stats_.add(cstats_);
     // bonds: in bond order after the contacts, with the half-step velocities (as Simulation)
     if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
     times_.neighbours += t1 - t0;

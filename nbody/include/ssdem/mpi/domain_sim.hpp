@@ -113,6 +113,12 @@ struct DomainStats {
   std::int64_t kernel_pairs = 0, shared_pairs = 0;
   double bytes_halo = 0, bytes_exchange = 0, bytes_gravity = 0, bytes_other = 0;  ///< sent [B]
   double wall_comm = 0;  ///< seconds in communication calls
+  /// Adds one contact evaluation's pair counts.
+  void add(const ContactStats& c) {
+    foreign_pairs += static_cast<std::int64_t>(c.foreign_pairs);
+    kernel_pairs += static_cast<std::int64_t>(c.kernel_pairs);
+    shared_pairs += static_cast<std::int64_t>(c.shared_pairs);
+  }
 };
 
 class DomainSim {

@@ -1,0 +1,77 @@
+/// @file pair_grid.hpp
+/// The contact list's cell grids (contacts.hpp: the ordinary grid of edge c = 2 s_max + k, and
+/// the isolated spheres' grid of edge c + 2M with M = c), their keys and the search around a
+/// sphere, shared by pair_list.cpp (updates) and pair_grid.cpp (insertion, margins).
+///
+/// Reach of a pair: s_i + s_j + k + m_i + m_j (m = M for an isolated sphere, else 0). Rings
+/// searched around r_i, so that every partner within reach is in a searched cell:
+///   ordinary grid: reach <= 2 s_max + k + m_i = c + m_i -> 1 ring, or 2 when m_i = M (= c);
+///   isolated grid: reach <= c + m_i + M <= 3c = its edge -> 1 ring.
+/// The searched cells' table slots are prefetched first, so that their cache misses overlap.
+#pragma once
+#include <cstdint>
+#include <limits>
+
+#include "ssdem/contacts.hpp"
+
+namespace ssdem {
+namespace grid {
+constexpr int kCellBits = 21;
+constexpr std::int64_t kCellMax = (std::int64_t{1} << kCellBits) - 1;
+constexpr std::uint32_t kNone = std::numeric_limits<std::uint32_t>::max();
+inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz) {
+  return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
+         (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
+}
+/// Appends to keys the cells within `rings` of cell key k (inside the key range) and prefetches
+/// their slots in t; returns the new count.
+inline int ring_keys(const CellTable& t, std::uint64_t k, int rings, std::uint64_t* keys, int nk) {
+  const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
+  const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
+  const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
+  for (std::int64_t dx = -rings; dx <= rings; ++dx)
+    for (std::int64_t dy = -rings; dy <= rings; ++dy)
+      for (std::int64_t dz = -rings; dz <= rings; ++dz) {
+        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+        keys[nk] = cell_key(X, Y, Z);
+        t.prefetch(keys[nk++]);
+      }
+  return nk;
+}
+}  // namespace grid
+
+template <class F>
+void ContactSystem::visit_near(const Spheres& sp, std::uint32_t i, double mi, F&& f) const {
+  const Vec3 xi = xref_[i];
+  const double si = sp.s[i];
+  const bool in_fast = !fast_.empty() && fast_[i];
+  const bool fast_grid = fhead_count_ > 0;
+  // the cells: up to 5^3 of the ordinary grid, then up to 3^3 of the isolated spheres' grid
+  std::uint64_t keys[125 + 27];
+  const std::uint64_t ka = in_fast ? cell_of(xi, cell_) : ckey_[i];
+  const int na = grid::ring_keys(head_, ka, mi > 0.0 ? 2 : 1, keys, 0);
+  const int nb = fast_grid ? grid::ring_keys(fhead_, in_fast ? ckey_[i] : cell_of(xi, fcell_), 1, keys, na) : na;
+  for (int q = 0; q < nb; ++q) {
+    const std::uint32_t* head = (q < na ? head_ : fhead_).find(keys[q]);
+    if (!head) continue;
+    for (std::uint32_t j = *head; j != grid::kNone; j = next_[j]) {
+      if (j == i) continue;
+      // same operand order as the test for (min, max): the set is symmetric bit for bit (the
+      // margins' sum is exact in either order, and +0 without margins)
+      const double mj = fast_[j] ? margin_ : 0.0;
+      const double reach = (i < j ? si + sp.s[j] + skin_ : sp.s[j] + si + skin_) + (mi + mj);
+      if ((xref_[j] - xi).squaredNorm() < reach * reach && f(j)) return;
+    }
+  }
+}
+
+template <class F>
+void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const {
+  visit_near(sp, i, fast_[i] ? margin_ : 0.0, [&](std::uint32_t j) {
+    f(j);
+    return false;
+  });
+}
+
+}  // namespace ssdem
