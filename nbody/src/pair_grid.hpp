@@ -3,10 +3,13 @@
 /// the isolated spheres' grid of edge c + 2M with M = c), their keys and the search around a
 /// sphere, shared by pair_list.cpp (updates) and pair_grid.cpp (insertion, margins).
 ///
-/// Reach of a pair: s_i + s_j + k + m_i + m_j (m = M for an isolated sphere, else 0). Rings
-/// searched around r_i, so that every partner within reach is in a searched cell:
-///   ordinary grid: reach <= 2 s_max + k + m_i = c + m_i -> 1 ring, or 2 when m_i = M (= c);
-///   isolated grid: reach <= c + m_i + M <= 3c = its edge -> 1 ring.
+/// Reach of a pair: s_i + s_j + k + m_i + m_j (m = M for an isolated sphere, else 0). A search
+/// starts from an ordinary sphere (built in, or just re-inserted), with m_i = 0, or m_i = M to
+/// test whether it may take the margin. Rings searched around r_i, so that every partner within
+/// reach is in a searched cell:
+///   ordinary grid (partners without margin): reach <= 2 s_max + k + m_i = c + m_i -> 1 ring,
+///   or 2 when m_i = M (= c);
+///   isolated grid (partners with margin M): reach <= c + m_i + M <= 3c = its edge -> 1 ring.
 /// The searched cells' table slots are prefetched first, so that their cache misses overlap.
 #pragma once
 #include <cstdint>
@@ -43,15 +46,14 @@ inline int ring_keys(const CellTable& t, std::uint64_t k, int rings, std::uint64
 
 template <class F>
 void ContactSystem::visit_near(const Spheres& sp, std::uint32_t i, double mi, F&& f) const {
+  // (i is in the ordinary grid: a sphere is searched around only there, when it is built in or
+  // re-inserted; mi = M is the test whether it may take the margin)
   const Vec3 xi = xref_[i];
   const double si = sp.s[i];
-  const bool in_fast = !fast_.empty() && fast_[i];
-  const bool fast_grid = fhead_count_ > 0;
   // the cells: up to 5^3 of the ordinary grid, then up to 3^3 of the isolated spheres' grid
   std::uint64_t keys[125 + 27];
-  const std::uint64_t ka = in_fast ? cell_of(xi, cell_) : ckey_[i];
-  const int na = grid::ring_keys(head_, ka, mi > 0.0 ? 2 : 1, keys, 0);
-  const int nb = fast_grid ? grid::ring_keys(fhead_, in_fast ? ckey_[i] : cell_of(xi, fcell_), 1, keys, na) : na;
+  const int na = grid::ring_keys(head_, ckey_[i], mi > 0.0 ? 2 : 1, keys, 0);
+  const int nb = fhead_count_ > 0 ? grid::ring_keys(fhead_, cell_of(xi, fcell_), 1, keys, na) : na;
   for (int q = 0; q < nb; ++q) {
     const std::uint32_t* head = (q < na ? head_ : fhead_).find(keys[q]);
     if (!head) continue;

@@ -1,6 +1,7 @@
 /// @file pair_list.cpp
 /// The contact pair list of ContactSystem (its cell grids: pair_grid.hpp): the
-/// incremental update (re-insertion of the spheres that moved more than skin/2) and full rebuilds.
+/// incremental update (re-insertion of the spheres that moved more than skin/2, or skin/2 plus
+/// the margin of an isolated sphere) and full rebuilds.
 /// The rule and its no-miss criterion are stated in contacts.hpp.
 #include "pair_grid.hpp"
 
@@ -95,7 +96,7 @@ bool ContactSystem::local_update(const Spheres& sp) {
   std::vector<std::uint64_t> nk;
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
   for (std::uint32_t i : moved_) {
-    if (!fast_[i]) for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
+    if (!fast_[i]) for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });  // (fast: none)
     for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
     for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
       const std::uint32_t p = jpair_[q];

@@ -287,3 +287,42 @@ TEST(Neighbors, ListIsExactlyThePairsWithinReach) {
     check("rebuilt after moves");
   }
 }
+
+// Contacts that only the isolated spheres' grid can reveal (contacts.hpp, "Isolated spheres"):
+// two lone fragments on a head-on course, each holding a margin long before they meet, and a
+// touching cluster drifting onto a slow lone sphere that holds one (the cluster's spheres find it
+// only by searching that grid: it is not re-inserted again). No pair closer than (1 - 2 f) k may be
+// unlisted at any step, and the spheres must have held margins and must meet.
+TEST(Neighbors, NoMissedContactWithSpheresHoldingMargins) {
+  for (double f : {0.5, 0.25}) {
+    Spheres sp;
+    sp.push(1, Vec3(-40.0, 0.0, 0.0), Vec3(30.0, 0.0, 0.0), Vec3::Zero(), 1.0, 1.0);
+    sp.push(2, Vec3(40.0, 0.3, 0.0), Vec3(-30.0, 0.0, 0.0), Vec3::Zero(), 1.0, 1.0);
+    // the lone one, slow: re-inserted once after f k (it then takes the margin, and its next
+    // re-insertion, after f k + 2.4 m at 0.1 m/s, is beyond the test's 12 s)
+    sp.push(3, Vec3(0.0, 60.0, 0.0), Vec3(0.1, 0.0, 0.0), Vec3::Zero(), 1.0, 1.0);
+    for (int a = 0; a < 3; ++a)  // a touching cluster of 9 drifting towards it at 2 m/s
+      for (int b = 0; b < 3; ++b)
+        sp.push(10 + 3 * a + b, Vec3(-1.9 + 1.95 * a, 75.0 + 1.95 * b, 0.0), Vec3(0.0, -2.0, 0.0), Vec3::Zero(), 1.0,
+                1.0);
+    const double skin = 0.4;
+    ContactSystem cs(linear(0), {}, skin);
+    cs.set_reinsert_fraction(f);
+    const double dt = 2e-3;
+    std::size_t found = 0, miss = 0;
+    bool held_margins = false, head_on = false, cluster_met = false;
+    for (int step = 0; step < 6000; ++step) {
+      cs.update_neighbors(sp);
+      held_margins = held_margins || cs.fast_spheres() >= 3;
+      miss += missed(cs, sp, found, (1.0 - 2.0 * f) * skin);
+      head_on = head_on || (sp.x[1] - sp.x[0]).norm() < 2.0;
+      for (std::size_t k = 3; k < sp.size(); ++k) cluster_met = cluster_met || (sp.x[k] - sp.x[2]).norm() < 2.0;
+      for (std::size_t i = 0; i < sp.size(); ++i) sp.x[i] += dt * sp.v[i];
+    }
+    EXPECT_EQ(miss, 0u) << "f " << f;
+    EXPECT_TRUE(held_margins) << "f " << f;
+    EXPECT_TRUE(head_on) << "the fragments must meet";
+    EXPECT_TRUE(cluster_met) << "the cluster must reach the lone sphere";
+    EXPECT_GT(found, 100u);
+  }
+}
