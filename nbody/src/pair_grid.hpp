@@ -70,7 +70,7 @@ void ContactSystem::visit_near(const Spheres& sp, std::uint32_t i, double mi, F&
 
 template <class F>
 void ContactSystem::for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const {
-  visit_near(sp, i, fast_[i] ? margin_ : 0.0, [&](std::uint32_t j) {
+  visit_near(sp, i, 0.0, [&](std::uint32_t j) {
     f(j);
     return false;
   });

@@ -84,7 +84,7 @@ bool ContactSystem::local_update(const Spheres& sp) {
   // then, in ascending order, each that has no partner within the larger reach takes the margin
   // (each test sees the earlier ones' margins: at the end every isolated sphere is still
   // isolated, so it has no pair within reach and needs no search below)
-  if (margins_on_ && margin_ > 0.0)
+  if (margins_on_)
     for (std::uint32_t i : moved_)
       if (isolated(sp, i)) {
         unlink(i);

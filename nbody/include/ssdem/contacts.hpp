@@ -109,8 +109,8 @@ class ContactSystem {
 
   /// Bring the pair list up to date (see the file comment): re-insert the spheres that moved
   /// more than skin/2 (plus the margin of an isolated sphere), or rebuild everything if `force`,
-  /// on a size change or when more than a quarter (and more than 32) moved. Returns whether it rebuilt from scratch (a local update
-  /// returns false; see local_update_count()). The caller (Simulation::compute_forces) calls it
+  /// on a size change or when more than a quarter (and more than 32) moved. Returns whether it
+  /// rebuilt from scratch (a local update returns false; see local_update_count()). The caller (Simulation::compute_forces) calls it
   /// once before every compute(); nothing else does.
   bool update_neighbors(const Spheres& sp, bool force = false);
   /// Contact forces and torques for all spheres (overwrites F and T), using predicted
@@ -149,8 +149,9 @@ class ContactSystem {
                        const std::vector<Vec3>& wpred, const Subset& sub, std::vector<Vec3>& F,
                        std::vector<Vec3>& T, double* diss = nullptr);
   /// Re-insert a sphere once it moved more than f * skin (plus its margin, if isolated) from its
-  /// reference position (default f = 1/2). With f < 1/2 every pair with a gap below (1 - 2 f) * skin is listed (multi-rate uses
-  /// f = 1/4: pairs closer than skin/2 are always listed, whatever the list's history).
+  /// reference position (default f = 1/2). With f < 1/2 every pair with a gap below
+  /// (1 - 2 f) * skin is listed (multi-rate uses f = 1/4: pairs closer than skin/2 are always
+  /// listed, whatever the list's history).
   void set_reinsert_fraction(double f) { reinsert_frac_ = f; }
   /// Whether re-inserted isolated spheres may take a margin (see the file comment; default on).
   /// Off for a caller of near_point(), which searches the ordinary grid only; set before the first
@@ -211,7 +212,8 @@ class ContactSystem {
   /// margins; m_i = mi here); stops early when f returns true (pair_grid.hpp).
   template <class F>
   void visit_near(const Spheres& sp, std::uint32_t i, double mi, F&& f) const;
-  /// f(j) for every j within reach of i with its own margin.
+  /// f(j) for every j within reach of an ordinary sphere i (no margin: a sphere that takes one
+  /// has no pair within reach, so nothing searches around it).
   template <class F>
   void for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const;
   /// Whether i has no partner within reach if it took the margin of an isolated sphere.
