@@ -262,7 +262,16 @@ void Simulation::step_multirate() {
   if (contacts_) {
     t0 = omp_get_wtime();
     c0 = cpu_now_();
-    if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
+    // Since the previous update the spheres active then were kicked (their closing kicks, the
+    // corrections of promoted ones), and the spheres that opened this step, which were active
+    // then too unless a block opened (every sphere opens) (multirate.hpp): a sphere that opens at
+    // s0 > 0 was synchronised, so active, at the end of the step before.
+    ContactSystem::Drift drift;
+    drift.h = ss.h;
+    drift.kicked = kicks_known_ && !ss.opens ? active_.data() : nullptr;
+    drift.nkicked = active_.size();
+    drift.level = lr_.level.data();
+    if (contacts_->update_neighbors(sp_, drift)) ++times_.neighbour_builds;
     times_.neighbours += omp_get_wtime() - t0;
     times_.cpu_neighbours += cpu_now_() - c0;
   }
@@ -301,6 +310,7 @@ void Simulation::step_multirate() {
     close_gravity_block();
   }
   ++times_.steps;
+  kicks_known_ = true;
   // The spheres evaluated now: a non-finite value enters only through a force (a, alpha, checked
   // where evaluated) or the field (evaluated at a block's close, where every sphere is active), and
   // a sphere not evaluated now only drifts with, and is kicked by, values checked before. (A finite

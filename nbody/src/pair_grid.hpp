@@ -12,7 +12,9 @@
 ///   isolated grid (partners with margin M): reach <= c + m_i + M <= 3c = its edge -> 1 ring.
 /// The searched cells' table slots are prefetched first, so that their cache misses overlap.
 #pragma once
+#include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <limits>
 
 #include "ssdem/contacts.hpp"
@@ -26,20 +28,24 @@ inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz)
   return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
          (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
 }
-/// Appends to keys the cells within `rings` of cell key k (inside the key range) and prefetches
-/// their slots in t; returns the new count.
+/// Appends to keys the cells within `rings` (1 or 2) of cell key k (inside the key range), ring
+/// by ring (k, then the 26 around it, then the outer 98: a search that stops at the first sphere
+/// found, the isolation test, then rarely reads the outer ring), and prefetches their slots in t; returns the
+/// new count.
 inline int ring_keys(const CellTable& t, std::uint64_t k, int rings, std::uint64_t* keys, int nk) {
   const std::int64_t cx = static_cast<std::int64_t>(k >> (2 * kCellBits));
   const std::int64_t cy = static_cast<std::int64_t>((k >> kCellBits) & kCellMax);
   const std::int64_t cz = static_cast<std::int64_t>(k & kCellMax);
-  for (std::int64_t dx = -rings; dx <= rings; ++dx)
-    for (std::int64_t dy = -rings; dy <= rings; ++dy)
-      for (std::int64_t dz = -rings; dz <= rings; ++dz) {
-        const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
-        if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
-        keys[nk] = cell_key(X, Y, Z);
-        t.prefetch(keys[nk++]);
-      }
+  for (std::int64_t r = 0; r <= rings; ++r)
+    for (std::int64_t dx = -r; dx <= r; ++dx)
+      for (std::int64_t dy = -r; dy <= r; ++dy)
+        for (std::int64_t dz = -r; dz <= r; ++dz) {
+          if (std::max({std::abs(dx), std::abs(dy), std::abs(dz)}) < r) continue;  // an inner ring's
+          const std::int64_t X = cx + dx, Y = cy + dy, Z = cz + dz;
+          if (X < 0 || Y < 0 || Z < 0 || X > kCellMax || Y > kCellMax || Z > kCellMax) continue;
+          keys[nk] = cell_key(X, Y, Z);
+          t.prefetch(keys[nk++]);
+        }
   return nk;
 }
 }  // namespace grid

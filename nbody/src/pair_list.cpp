@@ -23,12 +23,34 @@ using grid::kNone;
 }  // namespace
 
 bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
+  sched_.invalidate();  // (a call of this form may follow any number of drifts)
   const std::size_t n = sp.size();
   if (force || xref_.size() != n || import_) {
     build_pairs(sp);
     return true;
   }
-  return local_update(sp);
+  return local_update(sp, true);
+}
+
+bool ContactSystem::update_neighbors(const Spheres& sp, const Drift& drift) {
+  const std::size_t n = sp.size();
+  cand_.clear();
+  const bool all = sched_.open(n, drift.kicked, drift.nkicked, drift.level, cand_);
+  drift_ = &drift;
+  struct Reset {  // (drift_ is this call's only)
+    const Drift*& d;
+    ~Reset() { d = nullptr; }
+  } reset{drift_};
+  if (xref_.size() != n || import_) {
+    build_pairs(sp);
+    return true;
+  }
+  return local_update(sp, all);
+}
+
+void ContactSystem::plan(const Spheres& sp, std::uint32_t i) {
+  const double D = reinsert_frac_ * skin_ + (fast_[i] ? margin_ : 0.0);
+  sched_.enter(i, DriftSchedule::wait(sp.x[i], xref_[i], Vec3(drift_->h * sp.v[i]), D, sched_.horizon(i)));
 }
 
 bool ContactSystem::listed(std::size_t a, std::size_t b) const {
@@ -38,13 +60,23 @@ bool ContactSystem::listed(std::size_t a, std::size_t b) const {
   return std::binary_search(first, last, static_cast<std::uint32_t>(b));
 }
 
-bool ContactSystem::local_update(const Spheres& sp) {
+bool ContactSystem::local_update(const Spheres& sp, bool all) {
   const std::size_t n = sp.size();
   // re-insertion distance: f k, or f k + M for an isolated sphere (its margin)
   const double lim2[2] = {reinsert_frac_ * reinsert_frac_ * skin_ * skin_,
                           (reinsert_frac_ * skin_ + margin_) * (reinsert_frac_ * skin_ + margin_)};
   moved_.clear();
-  if (n >= kOmpMin) {
+  bool marks = false;  // whether mark_ holds the moved set already
+  tests_ += drift_ && !all ? cand_.size() : n;
+  if (drift_ && !all) {  // the spheres the schedule names (the same test)
+    for (std::uint32_t i : cand_) {
+      if ((sp.x[i] - xref_[i]).squaredNorm() > lim2[fast_[i]])
+        moved_.push_back(i);
+      else
+        plan(sp, i);
+    }
+    std::sort(moved_.begin(), moved_.end());
+  } else if (n >= kOmpMin) {
     mark_.resize(n);
     const Vec3* x = sp.x.data();  // (taken once: the byte stores may alias the vectors)
     const Vec3* xr = xref_.data();
@@ -53,9 +85,15 @@ bool ContactSystem::local_update(const Spheres& sp) {
 #pragma omp parallel for schedule(static)
     for (std::size_t i = 0; i < n; ++i) mk[i] = (x[i] - xr[i]).squaredNorm() > lim2[fs[i]] ? 1 : 0;
     for_each_flagged(mark_.data(), n, [&](std::size_t i) { moved_.push_back(static_cast<std::uint32_t>(i)); });
+    marked_ = moved_;
+    marks = true;
   } else {
     for (std::size_t i = 0; i < n; ++i)
       if ((sp.x[i] - xref_[i]).squaredNorm() > lim2[fast_[i]]) moved_.push_back(static_cast<std::uint32_t>(i));
+  }
+  if (drift_ && all && sched_.planning()) {  // every sphere tested: each planned (the moved again once re-inserted)
+    for (std::size_t i = 0; i < n; ++i) plan(sp, static_cast<std::uint32_t>(i));
+    sched_.set_valid();
   }
   // a waiting pair must be listed once its gap falls below (1 - 2 f) skin (the list's promise)
   const double gl = (1.0 - 2.0 * reinsert_frac_) * skin_;
@@ -71,9 +109,14 @@ bool ContactSystem::local_update(const Spheres& sp) {
     return true;
   }
   reinserts_ += moved_.size();
-  if (n < kOmpMin) {  // (the parallel test above left mark_ holding the moved flags)
-    mark_.assign(n, 0);
+  if (!marks) {  // (the parallel test above left mark_ holding the moved flags)
+    if (mark_.size() != n) {
+      mark_.assign(n, 0);
+      marked_.clear();
+    }
+    for (std::uint32_t i : marked_) mark_[i] = 0;
     for (std::uint32_t i : moved_) mark_[i] = 1;
+    marked_ = moved_;
   }
   for (std::uint32_t i : moved_) {  // back into the ordinary grid at its new position
     unlink(i);
@@ -81,22 +124,27 @@ bool ContactSystem::local_update(const Spheres& sp) {
     xref_[i] = sp.x[i];
     link(i);
   }
-  // then, in ascending order, each that has no partner within the larger reach takes the margin
-  // (each test sees the earlier ones' margins: at the end every isolated sphere is still
-  // isolated, so it has no pair within reach and needs no search below)
-  if (margins_on_)
-    for (std::uint32_t i : moved_)
-      if (isolated(sp, i)) {
-        unlink(i);
-        fast_[i] = 1;
-        link(i);
-        ++promotions_;
-      }
+  // then the pairs within reach of each, and, in ascending order, each that has none and no
+  // partner within the larger reach either takes the margin (each isolation test sees the earlier
+  // ones' margins: at the end every isolated sphere is still isolated). The searches may run
+  // first: a sphere with a pair within reach is not isolated, and one that takes the margin has
+  // no partner within s_i + s_j + k + M, so it is not found by the others' searches either way.
   auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
   std::vector<std::uint64_t> nk;
+  for (std::uint32_t i : moved_) {
+    const std::size_t before = nk.size();
+    for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
+    if (margins_on_ && nk.size() == before && isolated(sp, i)) {
+      unlink(i);
+      fast_[i] = 1;
+      link(i);
+      ++promotions_;
+    }
+  }
+  if (drift_ && sched_.valid())
+    for (std::uint32_t i : moved_) plan(sp, i);  // (new reference position, margin)
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
   for (std::uint32_t i : moved_) {
-    if (!fast_[i]) for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });  // (fast: none)
     for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
     for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
       const std::uint32_t p = jpair_[q];
@@ -241,6 +289,12 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   stale_flag_.assign(npi.size(), 0);
   stale_ = 0;
   install_pairs(sp, npi, npj);
+  if (drift_ && sched_.planning()) {  // every sphere ordinary at its reference position
+    for (std::size_t i = 0; i < n; ++i) plan(sp, static_cast<std::uint32_t>(i));
+    sched_.set_valid();
+  } else {
+    sched_.invalidate();
+  }
 }
 
 void ContactSystem::install_pairs(const Spheres& sp, std::vector<std::uint32_t>& npi,

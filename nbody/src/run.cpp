@@ -433,7 +433,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     if (const ContactSystem* cs = sim->contact_system())
       tail += "neighbour list: " + std::to_string(cs->rebuild_count()) + " full rebuilds, " +
               std::to_string(cs->local_update_count()) + " merges of new pairs, " +
-              std::to_string(cs->reinsert_count()) + " sphere re-insertions; " +
+              std::to_string(cs->reinsert_count()) + " sphere re-insertions (" +
+              std::to_string(cs->margin_count()) + " of them isolated: margin taken), " +
+              std::to_string(cs->test_count()) + " re-insertion tests; " +
               std::to_string(cs->pair_count()) + " pairs listed at the end\n";
     if (bonds) tail += bond_report(*sim) + "\n";
     if (!tail.empty()) {

@@ -31,7 +31,9 @@
 /// when d_i > f k + m_i. (I) becomes |r_i - r_j| < s_i + s_j + k + m_i + m_j, and the proof below
 /// holds as written with f k replaced by f k + m_i for each sphere: an unlisted pair still has a
 /// gap of at least g_l. The isolation test searches two rings of the first grid (the reach there
-/// is at most 2c) and one of the second; an ordinary sphere's search one ring of each. A sphere
+/// is at most 2c) and one of the second; an ordinary sphere's search one ring of each. It runs
+/// only for a re-inserted sphere whose own search found no pair (one with a pair within reach is
+/// not isolated). A sphere
 /// that takes the margin has no pair within its reach, so it needs no search. On a debris cloud a
 /// lone fragment then re-inserts once per (f k + c) of travel instead of f k (on equal spheres
 /// with k = s/4: 37x fewer at multi-rate's f = 1/4, 19x at f = 1/2); in a pile nothing changes
@@ -49,6 +51,12 @@
 /// So every pair in contact is listed. (A per-pair test d_i + d_j <= k would do too; the per-sphere k/2 makes it O(1) per
 /// sphere.) Only the spheres that moved more than k/2 pay: on expanding debris the few fast
 /// fragments are re-inserted every step, the slow bulk is not touched.
+/// Scheduled tests (multi-rate callers; drift_schedule.hpp). Testing d_i > f k (+ m_i) for every
+/// sphere at every base step cost 1/3 of the list's upkeep on disrupted debris, where most spheres
+/// take long steps: between two kicks a sphere drifts at one velocity, so the step at which its
+/// test can first fire is known in advance. update_neighbors(sp, drift) tests only the spheres
+/// kicked since the previous call and those whose test is due, and re-plans each. The moved set M
+/// is the same, bit for bit, as the test of every sphere would give.
 /// Determinism: the pair list is sorted by (i, j) with i < j; per-pair results are written to
 /// one record per pair (PairForces) in parallel and gathered per sphere in ascending partner
 /// order, so the summation order (and hence the result, bit for bit) is independent of the thread
@@ -67,6 +75,7 @@
 #include "common/exact_sum.hpp"
 #include "ssdem/cell_table.hpp"
 #include "ssdem/contact_law.hpp"
+#include "ssdem/drift_schedule.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
@@ -113,6 +122,19 @@ class ContactSystem {
   /// rebuilt from scratch (a local update returns false; see local_update_count()). The caller (Simulation::compute_forces) calls it
   /// once before every compute(); nothing else does.
   bool update_neighbors(const Spheres& sp, bool force = false);
+  /// What a multi-rate caller knows of the drifts between two calls (see "Scheduled tests").
+  struct Drift {
+    double h = 0.0;  ///< every call follows one drift x += h v of every sphere
+    /// the spheres whose velocity changed since the previous call (null: any may have)
+    const std::uint32_t* kicked = nullptr;
+    std::size_t nkicked = 0;
+    /// per sphere: a kicked sphere keeps its velocity through the next 2^level[i] - 1 calls
+    const std::uint8_t* level = nullptr;
+  };
+  /// update_neighbors(sp) with scheduled tests: the same list, bit for bit. Every call between
+  /// two calls of this one must follow exactly one drift; a call of the other form in between
+  /// makes the next one test every sphere.
+  bool update_neighbors(const Spheres& sp, const Drift& drift);
   /// Contact forces and torques for all spheres (overwrites F and T), using predicted
   /// velocities/spins vpred/wpred and half-step spins for the transport rotation. Uses the pair
   /// list as left by update_neighbors() / import_history() (std::logic_error if there is none for
@@ -197,6 +219,8 @@ class ContactSystem {
   /// Local updates that changed the pair list (merge), and sphere re-insertions in total.
   std::size_t local_update_count() const { return local_updates_; }
   std::size_t reinsert_count() const { return reinserts_; }
+  /// Re-insertion tests made, one per sphere tested per update (n per update without schedule).
+  std::size_t test_count() const { return tests_; }
   /// Bytes held per sphere by the contact system (pair list, history, CSR, cell grids), current sizes.
   double bytes_per_sphere(std::size_t n) const;
 
@@ -204,7 +228,9 @@ class ContactSystem {
   void build_pairs(const Spheres& sp);
   void install_pairs(const Spheres& sp, std::vector<std::uint32_t>& npi,
                      std::vector<std::uint32_t>& npj);
-  bool local_update(const Spheres& sp);
+  bool local_update(const Spheres& sp, bool all);
+  /// Enters sphere i's next scheduled test (drift_ set).
+  void plan(const Spheres& sp, std::uint32_t i);
   std::uint64_t cell_of(const Vec3& x, double edge) const;
   void link(std::uint32_t i);
   void unlink(std::uint32_t i);
@@ -257,9 +283,14 @@ class ContactSystem {
   std::size_t promotions_ = 0, fhead_count_ = 0;
   std::vector<std::uint32_t> next_, prev_;
   std::vector<std::uint64_t> ckey_;
-  std::vector<std::uint8_t> mark_;   // scratch: sphere in the moved set
-  std::vector<std::uint32_t> moved_;
-  std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0;
+  std::vector<std::uint8_t> mark_;   // scratch: 1 for the spheres of marked_, 0 for the others
+  std::vector<std::uint32_t> moved_, marked_;
+  // scheduled tests: the current call's drift (null outside update_neighbors(sp, drift)), the
+  // schedule, and the spheres it names for this call
+  const Drift* drift_ = nullptr;
+  DriftSchedule sched_;
+  std::vector<std::uint32_t> cand_;
+  std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0, tests_ = 0;
   std::vector<std::uint64_t> waiting_;    // new pairs not merged yet (keys i << 32 | j, i < j, sorted)
   std::vector<std::uint8_t> stale_flag_;  // per pair: left listed beyond its reach
   std::size_t stale_ = 0;                 // number of flagged pairs

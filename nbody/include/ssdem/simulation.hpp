@@ -175,7 +175,11 @@ class Simulation {
   }
 
   const Spheres& spheres() const { return sp_; }
-  Spheres& spheres_mut() { return sp_; }
+  /// (the next multi-rate step then treats every sphere as kicked: a velocity may have changed)
+  Spheres& spheres_mut() {
+    kicks_known_ = false;
+    return sp_;
+  }
   std::int64_t step_count() const { return step_; }
   double time() const { return time_; }
   const SimConfig& config() const { return cfg_; }
@@ -221,6 +225,9 @@ class Simulation {
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
   std::vector<std::uint32_t> active_;
+  /// active_ names every sphere kicked since the last neighbour update but for a block's opening
+  /// kicks (false before the first multi-rate step and after spheres_mut(): then all may be)
+  bool kicks_known_ = false;
   std::vector<std::size_t> subset_off_;  ///< multirate_forces: per active sphere, its first pair slot
   ContactSystem::Subset subset_;
   SubsetCache subsets_;  ///< subset_'s pairs kept per synchronisation level (take_subset)
