@@ -304,7 +304,7 @@ double ContactSystem::bytes_per_sphere(std::size_t n) const {
   double b = P * per_pair + 8.0 * (n + 1) + 24.0 * n;  // irow/jrow, xref
   b += 17.0 * static_cast<double>(n) + static_cast<double>(head_.bytes() + fhead_.bytes());  // grids: links, keys, flags, tables
   b += static_cast<double>(wh_.size()) * wh_.bytes_per_row();
-  return b / static_cast<double>(n) + (sched_.valid() ? sched_.bytes_per_sphere(n) : 0.0);
+  return b / static_cast<double>(n) + sched_.bytes_per_sphere(n);
 }
 
 }  // namespace ssdem

@@ -9,8 +9,8 @@ namespace ssdem {
 bool DriftSchedule::open(std::size_t n, const std::uint32_t* kicked, std::size_t nkicked, const std::uint8_t* level,
                          std::vector<std::uint32_t>& out) {
   ++now_;
-  if (ring_.size() != static_cast<std::size_t>(kRing)) ring_.resize(static_cast<std::size_t>(kRing));
-  auto& bucket = ring_[static_cast<std::size_t>(now_ % kRing)];
+  if (ring_.size() != static_cast<std::size_t>(ring_len_)) ring_.resize(static_cast<std::size_t>(ring_len_));
+  auto& bucket = ring_[static_cast<std::size_t>(now_ % ring_len_)];
   if (kicked) {
     kicked_sum_ += static_cast<std::int64_t>(nkicked);
     ++calls_;
@@ -45,8 +45,8 @@ bool DriftSchedule::open(std::size_t n, const std::uint32_t* kicked, std::size_t
   return false;
 }
 
-std::int64_t DriftSchedule::wait(const Vec3& x, const Vec3& xr, const Vec3& u, double D, std::int64_t horizon) {
-  const std::int64_t H = horizon < kRing ? horizon : kRing;
+std::int64_t DriftSchedule::wait(const Vec3& x, const Vec3& xr, const Vec3& u, double D, std::int64_t horizon) const {
+  const std::int64_t H = horizon < ring_len_ ? horizon : ring_len_;
   if (H <= 0) return 1;
   const double um = u.cwiseAbs().maxCoeff();
   const double scale = x.cwiseAbs().maxCoeff() + xr.cwiseAbs().maxCoeff() + (static_cast<double>(H) + 2.0) * um;
@@ -68,20 +68,26 @@ std::int64_t DriftSchedule::wait(const Vec3& x, const Vec3& xr, const Vec3& u, d
 
 void DriftSchedule::enter(std::uint32_t i, std::int64_t m) {
   const std::int64_t h = horizon(i);
-  if (m > h) {
-    if (h < kRing) return;  // kicked before it can fire: tested then
-    m = kRing - 1;          // renewed then
+  if (h < 0) {
+    m = 1;  // its kick was due and not named: tested at every call until it is
+  } else if (m > h) {
+    if (h < ring_len_) {  // kicked before it can fire: tested then
+      due_[i] = -1;
+      return;
+    }
+    m = ring_len_ - 1;  // renewed then
   }
-  if (m > kRing - 1) m = kRing - 1;
+  if (m > ring_len_ - 1) m = ring_len_ - 1;
   due_[i] = now_ + m;
-  ring_[static_cast<std::size_t>(due_[i] % kRing)].push_back(i);
+  ring_[static_cast<std::size_t>(due_[i] % ring_len_)].push_back(i);
 }
 
 double DriftSchedule::bytes_per_sphere(std::size_t n) const {
   if (n == 0) return 0.0;
   std::size_t entries = 0;
   for (const auto& b : ring_) entries += b.capacity();
-  return 16.0 + 4.0 * static_cast<double>(entries) / static_cast<double>(n);
+  const double per = 8.0 * static_cast<double>(due_.capacity() + until_.capacity()) + 4.0 * static_cast<double>(entries);
+  return per / static_cast<double>(n);
 }
 
 }  // namespace ssdem

@@ -6,6 +6,7 @@
 #include "pair_grid.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <iterator>
 #include <cmath>
 #include <limits>
@@ -34,6 +35,11 @@ bool ContactSystem::update_neighbors(const Spheres& sp, bool force) {
 
 bool ContactSystem::update_neighbors(const Spheres& sp, const Drift& drift) {
   const std::size_t n = sp.size();
+  assert(drift.level != nullptr);
+#ifndef NDEBUG
+  for (std::size_t r = 0; drift.kicked && r < drift.nkicked; ++r)  // ascending, so each once, < n
+    assert(drift.kicked[r] < n && (r == 0 || drift.kicked[r - 1] < drift.kicked[r]));
+#endif
   cand_.clear();
   const bool all = sched_.open(n, drift.kicked, drift.nkicked, drift.level, cand_);
   drift_ = &drift;
@@ -50,7 +56,7 @@ bool ContactSystem::update_neighbors(const Spheres& sp, const Drift& drift) {
 
 void ContactSystem::plan(const Spheres& sp, std::uint32_t i) {
   const double D = reinsert_frac_ * skin_ + (fast_[i] ? margin_ : 0.0);
-  sched_.enter(i, DriftSchedule::wait(sp.x[i], xref_[i], Vec3(drift_->h * sp.v[i]), D, sched_.horizon(i)));
+  sched_.enter(i, sched_.wait(sp.x[i], xref_[i], Vec3(drift_->h * sp.v[i]), D, sched_.horizon(i)));
 }
 
 bool ContactSystem::listed(std::size_t a, std::size_t b) const {

@@ -33,8 +33,7 @@
 /// gap of at least g_l. The isolation test searches two rings of the first grid (the reach there
 /// is at most 2c) and one of the second; an ordinary sphere's search one ring of each. It runs
 /// only for a re-inserted sphere whose own search found no pair (one with a pair within reach is
-/// not isolated). A sphere
-/// that takes the margin has no pair within its reach, so it needs no search. On a debris cloud a
+/// not isolated), so a sphere that takes the margin has no pair within its reach. On a debris cloud a
 /// lone fragment then re-inserts once per (f k + c) of travel instead of f k (on equal spheres
 /// with k = s/4: 37x fewer at multi-rate's f = 1/4, 19x at f = 1/2); in a pile nothing changes
 /// (every sphere has a partner). A full rebuild makes every sphere ordinary again. Which pairs
@@ -119,8 +118,9 @@ class ContactSystem {
   /// Bring the pair list up to date (see the file comment): re-insert the spheres that moved
   /// more than skin/2 (plus the margin of an isolated sphere), or rebuild everything if `force`,
   /// on a size change or when more than a quarter (and more than 32) moved. Returns whether it
-  /// rebuilt from scratch (a local update returns false; see local_update_count()). The caller (Simulation::compute_forces) calls it
-  /// once before every compute(); nothing else does.
+  /// rebuilt from scratch (a local update returns false; see local_update_count()). Called once
+  /// before every compute() (single-rate steps, Simulation::compute_forces; the MPI driver);
+  /// multi-rate steps call the form below.
   bool update_neighbors(const Spheres& sp, bool force = false);
   /// What a multi-rate caller knows of the drifts between two calls (see "Scheduled tests").
   struct Drift {
@@ -131,9 +131,11 @@ class ContactSystem {
     /// per sphere: a kicked sphere keeps its velocity through the next 2^level[i] - 1 calls
     const std::uint8_t* level = nullptr;
   };
-  /// update_neighbors(sp) with scheduled tests: the same list, bit for bit. Every call between
-  /// two calls of this one must follow exactly one drift; a call of the other form in between
-  /// makes the next one test every sphere.
+  /// update_neighbors(sp) with scheduled tests: the same list, bit for bit. Preconditions: since
+  /// the previous call of this form, positions changed only by exactly one drift x += h v (a call
+  /// of the other form in between makes the next one test every sphere); `kicked` is ascending
+  /// (so each sphere once) and < n, and names every sphere whose v changed; `level` is not null
+  /// (asserted in debug builds).
   bool update_neighbors(const Spheres& sp, const Drift& drift);
   /// Contact forces and torques for all spheres (overwrites F and T), using predicted
   /// velocities/spins vpred/wpred and half-step spins for the transport rotation. Uses the pair
@@ -174,7 +176,10 @@ class ContactSystem {
   /// reference position (default f = 1/2). With f < 1/2 every pair with a gap below
   /// (1 - 2 f) * skin is listed (multi-rate uses f = 1/4: pairs closer than skin/2 are always
   /// listed, whatever the list's history).
-  void set_reinsert_fraction(double f) { reinsert_frac_ = f; }
+  void set_reinsert_fraction(double f) {
+    reinsert_frac_ = f;
+    sched_.invalidate();  // (the plans assumed the old distance)
+  }
   /// Whether re-inserted isolated spheres may take a margin (see the file comment; default on).
   /// Off for a caller of near_point(), which searches the ordinary grid only; set before the first
   /// update_neighbors() (spheres that hold a margin keep it until the next rebuild).

@@ -14,7 +14,7 @@
 ///   delta = 4 H 2^-52 (|x|_inf + |x_ref|_inf + (H + 2) |u|_inf) + 1e-12 D,
 /// about eight times the bound. A sphere whose schedule says "not yet" has not moved past D in
 /// floating point either: the re-insertions, and so the list and every result, are those of the
-/// test of every sphere at every step, bit for bit (test_neighbors, "ScheduledTests*").
+/// test of every sphere at every step, bit for bit (tests/nbody/test_drift_schedule.cpp).
 /// When it pays: planning a kicked sphere reads six per-sphere arrays at scattered places (about
 /// 14 ns), where the test of every sphere streams two (0.6 ns per sphere on 2 threads): the
 /// schedule pays when fewer than about 1/20 of the spheres are kicked per step (measured in
@@ -35,8 +35,10 @@ namespace ssdem {
 
 class DriftSchedule {
  public:
-  /// Longest wait before a sphere's plan is renewed (calls).
-  static constexpr std::int64_t kRing = 4096;
+  /// Longest wait before a sphere's plan is renewed (calls): the ring's length by default.
+  static constexpr std::int64_t kDefaultRing = 4096;
+  explicit DriftSchedule(std::int64_t ring = kDefaultRing) : ring_len_(ring < 2 ? 2 : ring) {}
+  std::int64_t ring_length() const { return ring_len_; }
 
   /// Forget every plan: the next call tests every sphere (after a test without kick information,
   /// a rebuild without it, or a change of the sphere count).
@@ -54,11 +56,12 @@ class DriftSchedule {
   /// Calls before sphere i's test may fire (>= 1), from its position x, reference position xr,
   /// drift per call u and re-insertion distance D, looking `horizon` calls ahead; horizon + 1:
   /// not within them.
-  static std::int64_t wait(const Vec3& x, const Vec3& xr, const Vec3& u, double D, std::int64_t horizon);
+  std::int64_t wait(const Vec3& x, const Vec3& xr, const Vec3& u, double D, std::int64_t horizon) const;
   /// Calls sphere i may wait before its next kick (its velocity is known that far).
   std::int64_t horizon(std::uint32_t i) const { return until_[i] - now_ - 1; }
   /// Enters sphere i's next test, m = wait(...) calls from now (none if beyond its horizon;
-  /// a renewal after kRing - 1 calls if the horizon is longer).
+  /// a renewal after ring_length() - 1 calls if the horizon is longer; at the next call if the
+  /// horizon has passed, which a caller that names every kick never makes happen).
   void enter(std::uint32_t i, std::int64_t m);
   /// Whether this block is planned (open() decides it when a block opens).
   bool planning() const { return planning_; }
@@ -68,12 +71,13 @@ class DriftSchedule {
   double bytes_per_sphere(std::size_t n) const;
 
  private:
+  std::int64_t ring_len_;
   bool valid_ = false, planning_ = false;
   std::int64_t now_ = 0;
   std::int64_t kicked_sum_ = 0, calls_ = 0;  // over the block so far: kicks named, calls
   std::vector<std::int64_t> due_;    // call of the sphere's next test, -1: none entered
   std::vector<std::int64_t> until_;  // call at which it is kicked next at the latest
-  std::vector<std::vector<std::uint32_t>> ring_;  // entries by call mod kRing (stale ones skipped)
+  std::vector<std::vector<std::uint32_t>> ring_;  // entries by call mod ring_len_ (stale ones skipped)
 };
 
 }  // namespace ssdem

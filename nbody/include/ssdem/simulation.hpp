@@ -175,7 +175,8 @@ class Simulation {
   }
 
   const Spheres& spheres() const { return sp_; }
-  /// (the next multi-rate step then treats every sphere as kicked: a velocity may have changed)
+  /// (the next multi-rate step then treats every sphere as kicked: a velocity may have changed;
+  /// call it again before every change, a reference kept across steps bypasses that)
   Spheres& spheres_mut() {
     kicks_known_ = false;
     return sp_;
