@@ -24,7 +24,7 @@ double cpu_now() {
 }
 }  // namespace
 
-double Simulation::cpu_now_() { return cpu_now(); }
+double Simulation::cpu_now_() const { return cpu_timing_ ? cpu_now() : 0.0; }
 
 Simulation::Simulation(Spheres sp, SimConfig cfg) : cfg_(std::move(cfg)), sp_(std::move(sp)) {
   setup();
@@ -101,7 +101,7 @@ void Simulation::setup_bonds(BondSet b) {
 }
 
 void Simulation::compute_gravity(bool with_pot) {
-  const double t0 = omp_get_wtime(), c0 = cpu_now();
+  const double t0 = omp_get_wtime(), c0 = cpu_now_();
   std::vector<double>* pp = with_pot ? &pot_ : nullptr;
   if (tree_)
     tree_->compute(sp_, ag_, pp);
@@ -110,7 +110,7 @@ void Simulation::compute_gravity(bool with_pot) {
   grav_step_ = step_;
   if (with_pot) pot_step_ = step_;
   times_.gravity += omp_get_wtime() - t0;
-  times_.cpu_gravity += cpu_now() - c0;
+  times_.cpu_gravity += cpu_now_() - c0;
   ++times_.gravity_evals;
 }
 
@@ -142,14 +142,14 @@ void Simulation::compute_forces(bool initial) {
         alpha_prev_ = alpha_;
       }
     }
-    const double t0 = omp_get_wtime(), c0 = cpu_now();
+    const double t0 = omp_get_wtime(), c0 = cpu_now_();
     if (contacts_->update_neighbors(sp_)) ++times_.neighbour_builds;
-    const double t1 = omp_get_wtime(), c1 = cpu_now();
+    const double t1 = omp_get_wtime(), c1 = cpu_now_();
     // dissipation is counted over steps only (the initial evaluation is no step)
     cstats_ = contacts_->compute(sp_, vpred_, wpred_, h, F_, T_, initial ? nullptr : sp_.dissipated.data());
     // bonds: increments with the half-step velocities (none at the initial evaluation)
     if (bonds_) bonds_->compute(sp_, initial ? 0.0 : h, F_, T_);
-    const double t2 = omp_get_wtime(), c2 = cpu_now();
+    const double t2 = omp_get_wtime(), c2 = cpu_now_();
     times_.neighbours += t1 - t0;
     times_.contacts += t2 - t1;
     times_.cpu_neighbours += c1 - c0;
@@ -191,7 +191,7 @@ void Simulation::step() {
   const int k = block_;
   const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
   const bool open_kick = sg && step_ == block_start_;
-  double t0 = omp_get_wtime(), c0 = cpu_now();
+  double t0 = omp_get_wtime(), c0 = cpu_now_();
 #pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     if (open_kick) sp_.v[i] += hk * ag_[i];
@@ -202,7 +202,7 @@ void Simulation::step() {
   ++step_;
   time_ = static_cast<double>(step_) * h;  // no accumulated round-off; identical on restart
   times_.integrate += omp_get_wtime() - t0;
-  times_.cpu_integrate += cpu_now() - c0;
+  times_.cpu_integrate += cpu_now_() - c0;
   compute_forces(false);
   const bool close_kick = step_ == block_start_ + k;
   if (sg && close_kick) {
@@ -210,7 +210,7 @@ void Simulation::step() {
     compute_gravity(want_pot_);
   }
   t0 = omp_get_wtime();
-  c0 = cpu_now();
+  c0 = cpu_now_();
 #pragma omp parallel for schedule(static) if (n >= kOmpMin)
   for (std::size_t i = 0; i < n; ++i) {
     sp_.v[i] += hh * a_[i];
@@ -218,7 +218,7 @@ void Simulation::step() {
     if (sg && close_kick) sp_.v[i] += hk * ag_[i];
   }
   times_.integrate += omp_get_wtime() - t0;
-  times_.cpu_integrate += cpu_now() - c0;
+  times_.cpu_integrate += cpu_now_() - c0;
   if (close_kick) close_gravity_block();
   ++times_.steps;
   check_state();

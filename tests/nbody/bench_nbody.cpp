@@ -55,6 +55,7 @@ static void BM_RubblePile(benchmark::State& state) {
   omp_set_num_threads(threads);
   Setup s = make(n, every);
   Simulation sim(s.sp, s.cfg);
+  sim.set_cpu_timing(true);
   sim.run(2 * every);  // warm-up (first neighbour build, tree)
   const PhaseTimes t0 = sim.times();
   std::int64_t steps = 0;

@@ -174,6 +174,11 @@ class Simulation {
     for (std::int64_t k = 0; k < nsteps; ++k) step();
   }
 
+  /// Process CPU time per phase (PhaseTimes::cpu_*), off by default: each reading is a system
+  /// call (clock_gettime of the process CPU clock, which sums every thread's), two per phase per
+  /// step, which took ~10 % of the samples of a 2 493-sphere debris run (perf; nbody/README.md).
+  /// The benchmarks turn it on; wall times per phase are always kept.
+  void set_cpu_timing(bool on) { cpu_timing_ = on; }
   const Spheres& spheres() const { return sp_; }
   /// (the next multi-rate step then treats every sphere as kicked: a velocity may have changed;
   /// call it again before every change, a reference kept across steps bypasses that)
@@ -221,7 +226,9 @@ class Simulation {
   void multirate_forces(const Substep& ss);
   std::unique_ptr<BondLevels> blevels_;  ///< bonds in the multi-rate level rule (only with bonds)
   void accelerations(const std::uint32_t* idx, std::size_t count);
-  static double cpu_now_();
+  /// Process CPU time [s] when set_cpu_timing(true), else 0 (no system call).
+  double cpu_now_() const;
+  bool cpu_timing_ = false;
   LevelRules lr_;  ///< levels, synchronisation and the level rules (level_rules.hpp)
   std::vector<std::int64_t> topen_;
   std::vector<double> hopen_, tau_prev_;
