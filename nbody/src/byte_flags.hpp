@@ -51,10 +51,4 @@ inline void append_at_most(const std::uint8_t* v, std::size_t b, std::size_t e, 
     if (v[i] <= t) out.push_back(static_cast<std::uint32_t>(i));
 }
 
-/// Thread `t` of `T`'s block [b, e) of n items (static: consecutive, ascending with t).
-inline void static_block(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
-  b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(T);
-  e = n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
-}
-
 }  // namespace ssdem

@@ -11,12 +11,11 @@
 #include <unordered_map>
 
 #include "common/status.hpp"
+#include "omp_team.hpp"
 #include "pair_batch.hpp"
 
 namespace ssdem {
 namespace {
-// Below this many items a loop runs serially (thread start-up would dominate).
-constexpr std::size_t kOmpMin = 2048;
 struct Worst {
   double frac = 0.0;
   std::size_t a = 0, b = 0;
@@ -90,10 +89,9 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   if (owned_ && owned_->size() != n) throw std::logic_error("ContactSystem::set_owned: the mask does not match the spheres");
   const std::uint8_t* own = owned_ && n > 0 ? owned_->data() : nullptr;
   std::size_t nforeign = 0, nkernel = 0, nshared = 0;
-#pragma omp parallel if (P >= kOmpMin) reduction(+ : nforeign, nkernel, nshared)
-  {
+  in_team(use_team(P), [&] {
     Worst lw;
-    std::size_t lc = 0;
+    std::size_t lc = 0, lforeign = 0, lkernel = 0, lshared = 0;
     auto on_contact = [&](std::uint32_t p, double frac) {  // overlap / smaller radius
       ++lc;
       lw.offer(frac, pi_[p], pj_[p], p);
@@ -110,7 +108,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       const std::uint32_t p = sub ? sub->pairs[q] : static_cast<std::uint32_t>(q);
       const std::uint32_t i = pi_[p], j = pj_[p];
       if (own && !own[i] && !own[j]) {  // both forces are other ranks' (set_owned)
-        ++nforeign;
+        ++lforeign;
         continue;
       }
       const double reach = sp.s[i] + sp.s[j];
@@ -122,8 +120,8 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
         }
         continue;
       }
-      ++nkernel;
-      if (own && !(own[i] && own[j])) ++nshared;
+      ++lkernel;
+      if (own && !(own[i] && own[j])) ++lshared;
       rows[nl] = p;
       hs[nl] = sub ? sub->hpair[q] : h0;
       ws[nl] = whole ? whole[q] : 1;
@@ -136,9 +134,12 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
 #pragma omp critical(ssdem_contact_stats)
     {
       ncont += lc;
+      nforeign += lforeign;
+      nkernel += lkernel;
+      nshared += lshared;
       worst.offer(lw.frac, lw.a, lw.b, lw.key);
     }
-  }
+  });
   st.contacts = ncont;
   st.foreign_pairs = nforeign;
   st.kernel_pairs = nkernel;
@@ -176,8 +177,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     }
   };
   const bool every = 4 * ncont >= P - nforeign;  // (the skipped pairs are no one's records here)
-#pragma omp parallel if (ns >= kOmpMin)
-  {
+  in_team(use_team(ns), [&] {
     Worst lw;
     std::size_t lc = 0;
 #pragma omp for schedule(static)
@@ -226,7 +226,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       nwc += lc;
       wworst.offer(lw.frac, lw.a, lw.b, lw.key);
     }
-  }
+  });
   st.wall_contacts = nwc;
   st.max_overlap_frac = worst.frac;
   st.worst_a = worst.a;

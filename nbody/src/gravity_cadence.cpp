@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "omp_team.hpp"
+
 namespace ssdem {
 
 int next_gravity_block(int k, double g2, double d2, double cmax, const SimConfig& cfg, CadenceStats& st) {
@@ -23,21 +25,16 @@ int next_gravity_block(int k, double g2, double d2, double cmax, const SimConfig
   return next;
 }
 
-namespace {
-constexpr std::size_t kOmpMin = 2048;  // below this many spheres the sums run serially
-}
-
 common::ExactSum cadence_g2(const std::vector<Vec3>& g, const std::vector<std::uint32_t>* idx) {
   const std::size_t n = idx ? idx->size() : g.size();
   common::ExactSum total;
-#pragma omp parallel if (n >= kOmpMin)
-  {
+  in_team(use_team(n), [&] {
     common::ExactSum part;  // per thread; merging is exact, so the order of the merges is free
 #pragma omp for schedule(static) nowait
     for (std::size_t k = 0; k < n; ++k) part += g[idx ? (*idx)[k] : k].squaredNorm();
 #pragma omp critical(cadence_sum)
     total.merge(part);
-  }
+  });
   return total;
 }
 
@@ -45,19 +42,22 @@ void cadence_change(const std::vector<Vec3>& g, const std::vector<Vec3>& g_old, 
                     const std::vector<std::uint32_t>* idx, common::ExactSum& d2, double& cmax) {
   const std::size_t n = idx ? idx->size() : g.size();
   double mx = 0.0;
-#pragma omp parallel if (n >= kOmpMin) reduction(max : mx)
-  {
+  in_team(use_team(n), [&] {
     common::ExactSum part;
+    double lmx = 0.0;
 #pragma omp for schedule(static) nowait
     for (std::size_t k = 0; k < n; ++k) {
       const std::size_t i = idx ? (*idx)[k] : k;
       const double d = (g[i] - g_old[i]).norm();
       part += d * d;
-      mx = std::max(mx, d / std::max({g[i].norm(), floor, 1e-300}));
+      lmx = std::max(lmx, d / std::max({g[i].norm(), floor, 1e-300}));
     }
 #pragma omp critical(cadence_sum)
-    d2.merge(part);
-  }
+    {
+      d2.merge(part);
+      mx = std::max(mx, lmx);  // (a maximum: the order of the merges is free)
+    }
+  });
   cmax = std::max(cmax, mx);
 }
 

@@ -12,11 +12,11 @@
 #include <vector>
 
 #include "byte_flags.hpp"
+#include "omp_team.hpp"
 
 namespace ssdem {
 namespace {
-constexpr std::size_t kOmpMin = 2048;  // below this many spheres or pairs a loop runs serially
-constexpr std::uint8_t kNone = 255;    // no wall in reach (wall_level)
+constexpr std::uint8_t kNone = 255;  // no wall in reach (wall_level)
 }  // namespace
 
 void LevelRules::reset(std::size_t n, const std::vector<std::uint8_t>* levels) {
@@ -61,8 +61,9 @@ void LevelRules::update_pair_levels(const Spheres& sp, const ContactSystem& cs) 
   const auto& pj = cs.pair_j();
   const std::size_t P = pi.size();
   plev_.resize(P);
-#pragma omp parallel for schedule(static) if (P >= kOmpMin)
-  for (std::size_t p = 0; p < P; ++p) plev_[p] = static_cast<std::uint8_t>(pair_level(sp, pi[p], pj[p]));
+  for_blocks(P, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t p = lo; p < hi; ++p) plev_[p] = static_cast<std::uint8_t>(pair_level(sp, pi[p], pj[p]));
+  });
   // per sphere the lowest l_c of its listed pairs: assign() skips a sphere already at or below it
   const std::size_t n = level.size();
   pmin_.assign(n, kNone);
@@ -92,24 +93,29 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
   const auto& jp = ct ? cs->jpair() : none;
   const bool walls = ct && !cs->walls().empty();
   promo_.clear();
-  // (data pointers taken once: the byte stores below may alias anything, so the compiler would
-  // reload every vector's pointer after each)
-  std::uint8_t* lev = level.data();
-  std::uint8_t* syn = sync.data();
-  std::uint8_t* pro = promoted.data();
-  std::uint8_t* flag = lflag.data();
-  const std::uint8_t* pmin = pmin_.data();
-  const std::uint8_t* plev = plev_.data();
-  const std::uint32_t* pid = pi.data();
-  const std::uint32_t* pjd = pj.data();
-  const std::uint32_t* rid = ri.data();
-  const std::uint32_t* rjd = rj.data();
-  const std::uint32_t* jpd = jp.data();
-  const int nt = n >= kOmpMin ? omp_get_max_threads() : 1;
-  synced_by_thread_.resize(static_cast<std::size_t>(std::max(nt, 1)));
+  // The loops read everything through a local copy of this view: the byte stores below may
+  // alias anything, so whatever they read through a reference (a member, a captured variable)
+  // would be reloaded after each store, and the first loop would not vectorise.
+  struct View {
+    std::uint8_t *lev, *syn, *pro, *flag;
+    const std::uint8_t *pmin, *plev, *mask;
+    const std::uint32_t *pid, *pjd, *rid, *rjd, *jpd;
+    int tz, top;
+    bool ct, walls;
+  };
+  const View view{level.data(), sync.data(), promoted.data(), lflag.data(), pmin_.data(), plev_.data(), mask,
+                  pi.data(),    pj.data(),   ri.data(),       rj.data(),    jp.data(),    tz,           top,
+                  ct,           walls};
+  // (a scan of every sphere's level, a stream, then the synchronised spheres' pairs, items: as
+  // many as at the last call with this tz, usually)
+  const std::size_t tzi = static_cast<std::size_t>(std::clamp(tz, 0, kMaxLevel));
+  const bool team = use_team(n, Work::stream) || use_team(synced_at_tz_[tzi]);
+  // (grown only: a slot's storage is kept when a call runs without a team)
+  const auto slots = static_cast<std::size_t>(team ? omp_get_max_threads() : 1);
+  if (synced_by_thread_.size() < slots) synced_by_thread_.resize(slots);
   for (auto& v : synced_by_thread_) v.clear();
-#pragma omp parallel num_threads(nt)
-  {
+  in_team(team, [&] {
+    const View a = view;
     // each thread its static block of spheres (consecutive, ascending with the thread number, so
     // the blocks' synchronised lists joined in thread order are ascending); each fills a vector of
     // its own, its slot's storage swapped in and out, so no two threads write one cache line
@@ -119,31 +125,32 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
     std::vector<std::uint32_t> mine;
     mine.swap(slot);
     for (std::size_t k = b; k < e; ++k) {  // (branch-free: vectorised)
-      syn[k] = lev[k] <= tz ? 1 : 0;
-      pro[k] = 0;
+      a.syn[k] = a.lev[k] <= a.tz ? 1 : 0;
+      a.pro[k] = 0;
     }
-    append_at_most(lev, b, e, tz, mine);
+    append_at_most(a.lev, b, e, a.tz, mine);
     for (const std::uint32_t i : mine) {
-      if (mask && !mask[i]) continue;
-      int c = top;
-      if (ct && c > 0) {
-        const int floor = pmin[i];
-        for (std::uint32_t p = rid[i]; p < rid[i + 1] && c > floor; ++p)
-          if (plev[p] < c && near_pair(sp, i, pjd[p])) c = plev[p];
-        for (std::uint32_t q = rjd[i]; q < rjd[i + 1] && c > floor; ++q)
-          if (plev[jpd[q]] < c && near_pair(sp, pid[jpd[q]], i)) c = plev[jpd[q]];
-        if (walls && c > 0) c = std::min(c, wall_level(sp, *cs, i));
+      if (a.mask && !a.mask[i]) continue;
+      int c = a.top;
+      if (a.ct && c > 0) {
+        const int floor = a.pmin[i];
+        for (std::uint32_t p = a.rid[i]; p < a.rid[i + 1] && c > floor; ++p)
+          if (a.plev[p] < c && near_pair(sp, i, a.pjd[p])) c = a.plev[p];
+        for (std::uint32_t q = a.rjd[i]; q < a.rjd[i + 1] && c > floor; ++q)
+          if (a.plev[a.jpd[q]] < c && near_pair(sp, a.pid[a.jpd[q]], i)) c = a.plev[a.jpd[q]];
+        if (a.walls && c > 0) c = std::min(c, wall_level(sp, *cs, i));
         if (bonds && c > 0) c = bonds->cap(i, c);
       }
-      if (lev[i] != c) {
-        lev[i] = static_cast<std::uint8_t>(c);
-        flag[i] = 1;
+      if (a.lev[i] != c) {
+        a.lev[i] = static_cast<std::uint8_t>(c);
+        a.flag[i] = 1;
       }
     }
     slot.swap(mine);
-  }
+  });
   synced_.clear();
   for (const auto& v : synced_by_thread_) synced_.insert(synced_.end(), v.begin(), v.end());
+  synced_at_tz_[tzi] = synced_.size();
 }
 
 void LevelRules::active(std::vector<std::uint32_t>& out) {
@@ -216,15 +223,14 @@ void LevelRules::equalise(const Spheres& sp, const ContactSystem& cs, int tz, Bo
   // many changed levels (a body breaking up): one parallel scan of all pairs is cheaper
   if (!unsettled_valid_ || unsettled_version_ != cs.list_version() || 16 * nflag > n) {
     unsettled_.clear();
-#pragma omp parallel if (P >= kOmpMin)
-    {
+    in_team(use_team(P), [&] {
       std::vector<std::uint32_t> mine;
 #pragma omp for schedule(static) nowait
       for (std::size_t p = 0; p < P; ++p)
         if (unsettled(static_cast<std::uint32_t>(p))) mine.push_back(static_cast<std::uint32_t>(p));
 #pragma omp critical(ssdem_level_unsettled)
       unsettled_.insert(unsettled_.end(), mine.begin(), mine.end());
-    }
+    });
     std::sort(unsettled_.begin(), unsettled_.end());
     std::fill(lflag.begin(), lflag.end(), 0);
     unsettled_valid_ = true;
@@ -247,27 +253,27 @@ void LevelRules::equalise(const Spheres& sp, const ContactSystem& cs, int tz, Bo
   }
   seeds_.clear();
   const std::size_t U = unsettled_.size();
-#pragma omp parallel if (U >= kOmpMin)
-  {
+  in_team(use_team(U), [&] {
     std::vector<std::uint32_t> mine;
 #pragma omp for schedule(static) nowait
     for (std::size_t u = 0; u < U; ++u)
       if (violated(unsettled_[u])) mine.push_back(unsettled_[u]);
 #pragma omp critical(ssdem_level_seeds)
     seeds_.insert(seeds_.end(), mine.begin(), mine.end());
-  }
+  });
   std::sort(seeds_.begin(), seeds_.end());  // (the fixed point is order-free; this fixes the path)
   for (std::uint32_t p : seeds_) enforce(p);
   if (walls || bonds) {
     lnew_.resize(n);
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-    for (std::size_t k = 0; k < n; ++k) {
-      const auto i = static_cast<std::uint32_t>(k);
-      int t = level[i];
-      if (walls && t > 0) t = std::min(t, wall_level(sp, cs, i));
-      if (bonds && t > 0) t = bonds->bound(i, t);
-      lnew_[k] = static_cast<std::uint8_t>(t);
-    }
+    for_blocks(n, Work::items, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t k = lo; k < hi; ++k) {
+        const auto i = static_cast<std::uint32_t>(k);
+        int t = level[i];
+        if (walls && t > 0) t = std::min(t, wall_level(sp, cs, i));
+        if (bonds && t > 0) t = bonds->bound(i, t);
+        lnew_[k] = static_cast<std::uint8_t>(t);
+      }
+    });
     for (std::uint32_t i = 0; i < n; ++i)
       if (lnew_[i] < level[i]) lower(i, lnew_[i], tz);
   }
@@ -300,33 +306,35 @@ void multirate_subset(const ContactSystem& cs, const std::vector<std::uint32_t>&
   // own slots, in the order of the serial loop over active spheres)
   off.resize(na + 1);
   off[0] = 0;
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t k = active[r];
-    std::size_t c = ri[k + 1] - ri[k];
-    for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) c += sync[pi[jp[q]]] ? 0 : 1;
-    off[r + 1] = c;
-  }
+  for_blocks(na, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::uint32_t k = active[r];
+      std::size_t c = ri[k + 1] - ri[k];
+      for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q) c += sync[pi[jp[q]]] ? 0 : 1;
+      off[r + 1] = c;
+    }
+  });
   for (std::size_t r = 0; r < na; ++r) off[r + 1] += off[r];
   sub.pairs.resize(off[na]);
   sub.hpair.resize(off[na]);
   sub.whole.resize(off[na]);
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t k = active[r];
-    std::size_t o = off[r];
-    for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p, ++o) {
-      sub.pairs[o] = p;
-      sub.hpair[o] = hpair(p);
-      sub.whole[o] = sync[pj[p]];
-    }
-    for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
-      if (!sync[pi[jp[q]]]) {  // else added from its i member
-        sub.pairs[o] = jp[q];
-        sub.whole[o] = 0;
-        sub.hpair[o++] = hpair(jp[q]);
+  for_blocks(na, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::uint32_t k = active[r];
+      std::size_t o = off[r];
+      for (std::uint32_t p = ri[k]; p < ri[k + 1]; ++p, ++o) {
+        sub.pairs[o] = p;
+        sub.hpair[o] = hpair(p);
+        sub.whole[o] = sync[pj[p]];
       }
-  }
+      for (std::uint32_t q = rj[k]; q < rj[k + 1]; ++q)
+        if (!sync[pi[jp[q]]]) {  // else added from its i member
+          sub.pairs[o] = jp[q];
+          sub.whole[o] = 0;
+          sub.hpair[o++] = hpair(jp[q]);
+        }
+    }
+  });
 }
 
 void take_subset(SubsetCache& c, int tz, const ContactSystem& cs, const std::vector<std::uint32_t>& active,

@@ -14,12 +14,10 @@
 
 #include "byte_flags.hpp"
 #include "common/status.hpp"
+#include "omp_team.hpp"
 #include "ssdem/simulation.hpp"
 
 namespace ssdem {
-namespace {
-constexpr std::size_t kOmpMin = 2048;  // below this many spheres a loop runs serially
-}  // namespace
 
 PairClock::PairClock(const ContactParams& p, double base_dt, double steps_per_contact, int lmax)
     : p_(p), unit_(base_dt * steps_per_contact), lmax_(lmax) {
@@ -76,35 +74,36 @@ void Simulation::setup_multirate(const SimState* st) {
 
 void predict_active(const ActiveArrays& s, const std::uint32_t* active, std::size_t na, std::int64_t step,
                     double h, bool extrap, double* tau_out, const Vec3* gheld, double hk) {
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t i = active[r];
-    const double tau = static_cast<double>(step - s.topen[i]) * h;
-    tau_out[r] = tau;
-    const double hc = tau - s.hopen[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
-    // a step that holds the block's field (promoted: it does from now on, see below)
-    const bool held = gheld && (s.hopen[i] != hk || s.promoted[i]);
-    const Vec3 acc = held ? Vec3(s.a[i] + gheld[i]) : s.a[i];
-    s.vpred[i] = s.sp.v[i] + hc * acc;
-    s.wpred[i] = s.sp.w[i] + hc * s.alpha[i];
-    if (extrap) {
-      if (s.tau_prev[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
-        s.vpred[i] += 0.5 * tau * (s.a[i] - s.a_prev[i]);
-        s.wpred[i] += 0.5 * tau * (s.alpha[i] - s.alpha_prev[i]);
+  for_blocks(na, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::uint32_t i = active[r];
+      const double tau = static_cast<double>(step - s.topen[i]) * h;
+      tau_out[r] = tau;
+      const double hc = tau - s.hopen[i];  // v_pred = v_open + tau a_old (KDK: h/2 ahead of v_half)
+      // a step that holds the block's field (promoted: it does from now on, see below)
+      const bool held = gheld && (s.hopen[i] != hk || s.promoted[i]);
+      const Vec3 acc = held ? Vec3(s.a[i] + gheld[i]) : s.a[i];
+      s.vpred[i] = s.sp.v[i] + hc * acc;
+      s.wpred[i] = s.sp.w[i] + hc * s.alpha[i];
+      if (extrap) {
+        if (s.tau_prev[i] == tau) {  // a_{n+1} ~ 2 a_n - a_{n-1} over equal steps
+          s.vpred[i] += 0.5 * tau * (s.a[i] - s.a_prev[i]);
+          s.wpred[i] += 0.5 * tau * (s.alpha[i] - s.alpha_prev[i]);
+        }
+        s.a_prev[i] = s.a[i];
+        s.alpha_prev[i] = s.alpha[i];
       }
-      s.a_prev[i] = s.a[i];
-      s.alpha_prev[i] = s.alpha[i];
+      s.tau_prev[i] = tau;
+      if (s.promoted[i]) {  // opening kick h_open a_old -> (tau/2) a_old
+        const double c = 0.5 * tau - s.hopen[i];
+        // held field: a whole-block step's opening impulse h_open g (h_open = hk) or a held step's
+        // h_open g becomes (tau/2) g, as if the field had been held since the opening
+        s.sp.v[i] += c * acc;
+        s.sp.w[i] += c * s.alpha[i];
+        s.hopen[i] = 0.5 * tau;  // the opening kick it now had (never hk: tau < the block)
+      }
     }
-    s.tau_prev[i] = tau;
-    if (s.promoted[i]) {  // opening kick h_open a_old -> (tau/2) a_old
-      const double c = 0.5 * tau - s.hopen[i];
-      // held field: a whole-block step's opening impulse h_open g (h_open = hk) or a held step's
-      // h_open g becomes (tau/2) g, as if the field had been held since the opening
-      s.sp.v[i] += c * acc;
-      s.sp.w[i] += c * s.alpha[i];
-      s.hopen[i] = 0.5 * tau;  // the opening kick it now had (never hk: tau < the block)
-    }
-  }
+  });
 }
 
 Substep::Substep(double h_, int K_, std::int64_t step, std::int64_t block_start)
@@ -114,7 +113,7 @@ Substep::Substep(double h_, int K_, std::int64_t step, std::int64_t block_start)
 }
 
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
-                    double hk, bool gravity_kick, bool spin, const Vec3* gheld) {
+                    double hk, bool gravity_kick, bool spin, const Vec3* gheld, std::size_t nopen) {
   // (the arrays' data pointers taken once: the loop then runs as over plain arrays)
   const std::size_t n = k.level.size();
   const std::uint8_t* level = k.level.data();
@@ -145,9 +144,10 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     if (spin) w[i] += ho * alpha[i];
   };
   if (gravity_kick && s0 != 0) throw std::logic_error("open_and_drift: the block's gravity kick only at s0 = 0");
-  const int nt = n >= kOmpMin ? omp_get_max_threads() : 1;
-#pragma omp parallel num_threads(nt)
-  {
+  // (a block's opening kicks every sphere: items; at s0 > 0 the kicks of the opening spheres,
+  // items, and a scan and the drift of all, a stream)
+  const bool team = s0 == 0 ? use_team(n) : use_team(nopen) || use_team(n, Work::stream);
+  in_team(team, [&] {
     // each thread its static block of spheres: kicks, then the drift of the same spheres
     std::size_t b, e;
     static_block(n, omp_get_thread_num(), omp_get_num_threads(), b, e);
@@ -165,7 +165,7 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     double* xf = x->data();
     const double* vf = v->data();
     for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
-  }
+  });
 }
 
 void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,
@@ -177,19 +177,20 @@ void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t n
   const Vec3* ag = k.ag.data();
   const std::int64_t* topen = k.topen.data();
   const double* hopen = k.hopen.data();
-#pragma omp parallel for schedule(static) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    const std::uint32_t i = active[r];
-    const double hc = 0.5 * (static_cast<double>(step - topen[i]) * h);
-    if (gheld && hopen[i] != hk) {  // held step: the held field, and at the block's end the
-      v[i] += hc * Vec3(a[i] + gheld[i]);  // trapezoid residual hk (g_new - g_held)
-      if (gravity_kick) v[i] += hk * Vec3(ag[i] - gheld[i]);
-    } else {
-      v[i] += hc * a[i];
-      if (gravity_kick) v[i] += hk * ag[i];
+  for_blocks(na, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::uint32_t i = active[r];
+      const double hc = 0.5 * (static_cast<double>(step - topen[i]) * h);
+      if (gheld && hopen[i] != hk) {  // held step: the held field, and at the block's end the
+        v[i] += hc * Vec3(a[i] + gheld[i]);  // trapezoid residual hk (g_new - g_held)
+        if (gravity_kick) v[i] += hk * Vec3(ag[i] - gheld[i]);
+      } else {
+        v[i] += hc * a[i];
+        if (gravity_kick) v[i] += hk * ag[i];
+      }
+      if (spin) w[i] += hc * alpha[i];
     }
-    if (spin) w[i] += hc * alpha[i];
-  }
+  });
 }
 
 void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, std::int64_t step,
@@ -198,11 +199,22 @@ void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, s
   // runs in parallel and the result does not depend on the thread count
   std::int64_t ks[kMaxLevel + 1] = {};
   const std::int64_t* to = topen.data();
-#pragma omp parallel for schedule(static) reduction(+ : ks[:kMaxLevel + 1]) if (na >= kOmpMin)
-  for (std::size_t r = 0; r < na; ++r) {
-    // level of the step: floor(log2(k)) (k is a power of two but for a promoted sphere's step)
-    const auto k = static_cast<std::uint64_t>(step - to[active[r]]);
-    ks[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += static_cast<std::int64_t>(k);
+  auto add = [&](std::int64_t* sums, std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      // level of the step: floor(log2(k)) (k is a power of two but for a promoted sphere's step)
+      const auto k = static_cast<std::uint64_t>(step - to[active[r]]);
+      sums[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += static_cast<std::int64_t>(k);
+    }
+  };
+  if (use_team(na)) {
+#pragma omp parallel reduction(+ : ks[:kMaxLevel + 1])
+    {
+      std::size_t lo, hi;
+      static_block(na, omp_get_thread_num(), omp_get_num_threads(), lo, hi);
+      add(ks, lo, hi);
+    }
+  } else {
+    add(ks, 0, na);
   }
   for (int l = 0; l <= kMaxLevel; ++l)
     if (ks[l]) ls.sphere_time[static_cast<std::size_t>(l)] += static_cast<double>(ks[l]) * h;
@@ -254,7 +266,7 @@ void Simulation::step_multirate() {
   if (ss.opens) lr_.cap(ss.L);
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
   open_and_drift(kicks, nullptr, step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin,
-                 held_field(cfg_, ag_, sp_.size()));
+                 held_field(cfg_, ag_, sp_.size()), active_.size());
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;

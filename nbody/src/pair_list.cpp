@@ -15,11 +15,10 @@
 
 #include "byte_flags.hpp"
 #include "common/status.hpp"
+#include "omp_team.hpp"
 
 namespace ssdem {
 namespace {
-// Below this many items a loop runs serially (thread start-up would dominate).
-constexpr std::size_t kOmpMin = 2048;
 using grid::kNone;
 }  // namespace
 
@@ -82,7 +81,7 @@ bool ContactSystem::local_update(const Spheres& sp, bool all) {
         plan(sp, i);
     }
     std::sort(moved_.begin(), moved_.end());
-  } else if (n >= kOmpMin) {
+  } else if (use_team(n)) {
     mark_.resize(n);
     const Vec3* x = sp.x.data();  // (taken once: the byte stores may alias the vectors)
     const Vec3* xr = xref_.data();
@@ -259,8 +258,7 @@ void ContactSystem::build_pairs(const Spheres& sp) {
   const std::size_t csize = (n + nchunk - 1) / nchunk;
   std::vector<std::vector<std::uint32_t>> cj(nchunk);
   std::vector<std::vector<std::uint32_t>> ccount(nchunk);
-#pragma omp parallel for schedule(dynamic, 1) if (n >= kOmpMin)
-  for (std::size_t ch = 0; ch < nchunk; ++ch) {
+  auto chunk = [&](std::size_t ch) {
     const std::size_t b = ch * csize, e = std::min(n, b + csize);
     auto& J = cj[ch];
     auto& C = ccount[ch];
@@ -275,6 +273,12 @@ void ContactSystem::build_pairs(const Spheres& sp) {
       C[i - b] = static_cast<std::uint32_t>(tmp.size());
       J.insert(J.end(), tmp.begin(), tmp.end());
     }
+  };
+  if (use_team(n)) {
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::size_t ch = 0; ch < nchunk; ++ch) chunk(ch);
+  } else {
+    for (std::size_t ch = 0; ch < nchunk; ++ch) chunk(ch);
   }
   // Concatenate in chunk order -> pair list sorted by (i, j).
   std::vector<std::uint32_t> npi, npj;

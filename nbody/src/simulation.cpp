@@ -10,13 +10,12 @@
 #include <sstream>
 
 #include "common/status.hpp"
+#include "omp_team.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/gravity_cadence.hpp"
 
 namespace ssdem {
 namespace {
-// Below this many items a loop runs serially (thread start-up would dominate).
-constexpr std::size_t kOmpMin = 2048;
 double cpu_now() {
   timespec t;
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
@@ -124,18 +123,20 @@ void Simulation::compute_forces(bool initial) {
       vpred_ = sp_.v;
       wpred_ = sp_.w;
     } else {
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-      for (std::size_t i = 0; i < n; ++i) {
-        vpred_[i] = sp_.v[i] + 0.5 * h * a_[i];
-        wpred_[i] = sp_.w[i] + 0.5 * h * alpha_[i];
-      }
+      for_blocks(n, Work::items, [&](std::size_t lo, std::size_t hi) {
+        for (std::size_t i = lo; i < hi; ++i) {
+          vpred_[i] = sp_.v[i] + 0.5 * h * a_[i];
+          wpred_[i] = sp_.w[i] + 0.5 * h * alpha_[i];
+        }
+      });
       if (cfg_.extrapolated_predictor && a_prev_.size() == n) {
         // a_{n+1} ~ 2 a_n - a_{n-1}: v_pred = v_{n+1/2} + (h/2)(2 a_n - a_{n-1})
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-        for (std::size_t i = 0; i < n; ++i) {
-          vpred_[i] += 0.5 * h * (a_[i] - a_prev_[i]);
-          wpred_[i] += 0.5 * h * (alpha_[i] - alpha_prev_[i]);
-        }
+        for_blocks(n, Work::items, [&](std::size_t lo, std::size_t hi) {
+          for (std::size_t i = lo; i < hi; ++i) {
+            vpred_[i] += 0.5 * h * (a_[i] - a_prev_[i]);
+            wpred_[i] += 0.5 * h * (alpha_[i] - alpha_prev_[i]);
+          }
+        });
       }
       if (cfg_.extrapolated_predictor) {
         a_prev_ = a_;
@@ -162,16 +163,17 @@ void Simulation::compute_forces(bool initial) {
 void accelerations(const Spheres& sp, const std::vector<Vec3>& F, const std::vector<Vec3>& T, const Vec3& g,
                    bool contacts, const std::uint32_t* idx, std::size_t count, std::vector<Vec3>& a,
                    std::vector<Vec3>& alpha) {
-#pragma omp parallel for schedule(static) if (count >= kOmpMin)
-  for (std::size_t r = 0; r < count; ++r) {
-    const std::size_t i = idx ? idx[r] : r;
-    Vec3 ai = g;
-    if (contacts) {
-      ai += F[i] / sp.m[i];
-      alpha[i] = T[i] / sp.inertia(i);
+  for_blocks(count, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::size_t i = idx ? idx[r] : r;
+      Vec3 ai = g;
+      if (contacts) {
+        ai += F[i] / sp.m[i];
+        alpha[i] = T[i] / sp.inertia(i);
+      }
+      a[i] = ai;
     }
-    a[i] = ai;
-  }
+  });
 }
 
 // a = g_uniform + F/m, alpha = T/I for spheres idx[0..count) (all of 0..count if idx is null).
@@ -192,13 +194,14 @@ void Simulation::step() {
   const double hk = 0.5 * h * k;  // gravity impulse half-interval (RESPA outer half-kick)
   const bool open_kick = sg && step_ == block_start_;
   double t0 = omp_get_wtime(), c0 = cpu_now_();
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    if (open_kick) sp_.v[i] += hk * ag_[i];
-    sp_.v[i] += hh * a_[i];
-    if (spin) sp_.w[i] += hh * alpha_[i];
-    sp_.x[i] += h * sp_.v[i];
-  }
+  for_blocks(n, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      if (open_kick) sp_.v[i] += hk * ag_[i];
+      sp_.v[i] += hh * a_[i];
+      if (spin) sp_.w[i] += hh * alpha_[i];
+      sp_.x[i] += h * sp_.v[i];
+    }
+  });
   ++step_;
   time_ = static_cast<double>(step_) * h;  // no accumulated round-off; identical on restart
   times_.integrate += omp_get_wtime() - t0;
@@ -211,12 +214,13 @@ void Simulation::step() {
   }
   t0 = omp_get_wtime();
   c0 = cpu_now_();
-#pragma omp parallel for schedule(static) if (n >= kOmpMin)
-  for (std::size_t i = 0; i < n; ++i) {
-    sp_.v[i] += hh * a_[i];
-    if (spin) sp_.w[i] += hh * alpha_[i];
-    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
-  }
+  for_blocks(n, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t i = lo; i < hi; ++i) {
+      sp_.v[i] += hh * a_[i];
+      if (spin) sp_.w[i] += hh * alpha_[i];
+      if (sg && close_kick) sp_.v[i] += hk * ag_[i];
+    }
+  });
   times_.integrate += omp_get_wtime() - t0;
   times_.cpu_integrate += cpu_now_() - c0;
   if (close_kick) close_gravity_block();
@@ -250,11 +254,25 @@ void Simulation::check_state(const std::vector<std::uint32_t>* only) {
   const std::size_t m = only ? only->size() : n;
   const std::uint32_t* idx = only ? only->data() : nullptr;
   // 0 * (sum of the values) is 0 unless one is NaN or infinite (no branch per sphere)
+  // (a NaN or infinity in any term makes z so in any order of the sum: a team's order is free)
+  auto part = [&](std::size_t lo, std::size_t hi) {
+    double s = 0.0;
+    for (std::size_t r = lo; r < hi; ++r) {
+      const std::size_t i = idx ? idx[r] : r;
+      s += 0.0 * (sp_.x[i] + sp_.v[i] + a_[i] + sp_.w[i] + ag_[i]).sum();
+    }
+    return s;
+  };
   double z = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : z) if (m >= kOmpMin)
-  for (std::size_t r = 0; r < m; ++r) {
-    const std::size_t i = idx ? idx[r] : r;
-    z += 0.0 * (sp_.x[i] + sp_.v[i] + a_[i] + sp_.w[i] + ag_[i]).sum();
+  if (use_team(m)) {
+#pragma omp parallel reduction(+ : z)
+    {
+      std::size_t lo, hi;
+      static_block(m, omp_get_thread_num(), omp_get_num_threads(), lo, hi);
+      z += part(lo, hi);
+    }
+  } else {
+    z = part(0, m);
   }
   if (!(z == 0.0)) {
     // the sphere named: the first with a non-finite position if any (where a non-finite velocity

@@ -88,6 +88,9 @@ class LevelRules {
   std::vector<std::uint32_t> work_, seeds_;
   std::vector<std::uint32_t> synced_, promo_;  ///< synchronised by assign(); promoted since (lower())
   std::vector<std::vector<std::uint32_t>> synced_by_thread_;
+  /// per tz how many spheres assign() synchronised at its last call with that tz: whether the
+  /// next call's pass over them gets a team (omp_team.hpp)
+  std::size_t synced_at_tz_[kMaxLevel + 1] = {};
   std::vector<std::uint32_t> unsettled_, cand_, fresh_;  ///< pairs not on one level <= their l_c (ascending)
   std::uint64_t unsettled_version_ = 0;
   bool unsettled_valid_ = false;

@@ -214,9 +214,11 @@ struct KickArrays {
 /// `spin`) and drifts x += h v; a sphere outside the mask (a ghost) records its opening step and
 /// drifts with its velocity as it is (its owner kicks it and sends the result: DomainSim).
 /// With gheld (the block's held field, "held" mode) a sphere opening a step shorter than the block
-/// kicks with (h_l/2)(a + gheld) and takes no gravity impulse.
+/// kicks with (h_l/2)(a + gheld) and takes no gravity impulse. `nopen`: how many spheres are
+/// expected to open (those active at the end of the previous step); it decides, with the sphere
+/// count, whether the pass runs on a team of threads (omp_team.hpp), never the result.
 void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t step, std::int64_t s0, double h,
-                    double hk, bool gravity_kick, bool spin, const Vec3* gheld = nullptr);
+                    double hk, bool gravity_kick, bool spin, const Vec3* gheld = nullptr, std::size_t nopen = 0);
 /// Closing kicks of the active spheres: v += (tau/2) a with tau = (step - topen) h (spins likewise),
 /// plus the block's closing gravity kick hk ag when `gravity_kick`. With gheld (the field held
 /// through this block: the previous evaluation at a block's end) a held step (h_open != hk) closes

@@ -153,7 +153,7 @@ void DomainSim::step_multirate() {
   if (ss.opens) lr_.cap(ss.L);  // (ghosts too: the same rule on the same level)
   const KickArrays kicks{sp_, a_, alpha_, ag_, lr_.level, topen_, hopen_};
   open_and_drift(kicks, mine_.data(), step_, ss.s0, ss.h, ss.hk, sg && ss.opens, spin,
-                 held_field(cfg_, ag_, sp_.size()));
+                 held_field(cfg_, ag_, sp_.size()), active_.size());
   ++step_;
   time_ = static_cast<double>(step_) * ss.h;
   times_.integrate += omp_get_wtime() - t0;

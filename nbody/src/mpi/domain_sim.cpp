@@ -9,6 +9,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "../omp_team.hpp"
 #include "common/exact_sum_mpi.hpp"
 #include "common/sorted_rows.hpp"
 #include "common/status.hpp"
@@ -17,9 +18,6 @@
 #include "ssdem/mpi/domain_sim.hpp"
 
 namespace ssdem::mpi {
-namespace {
-constexpr std::size_t kOmpMin = 2048;  // below this many own spheres a loop runs serially
-}
 
 void DomainSim::check_config() const {
   if (!(cfg_.dt > 0.0)) throw common::InputError("time.dt must be > 0");
@@ -156,21 +154,22 @@ void DomainSim::compute_forces(bool initial) {
   const double h = cfg_.dt, hh = 0.5 * h;
   const std::size_t no = own_.size();
   if (contacts_) {
-#pragma omp parallel for schedule(static) if (no >= kOmpMin)
-    for (std::size_t k = 0; k < no; ++k) {
-      const std::uint32_t i = own_[k];
-      if (initial) {
-        vpred_[i] = sp_.v[i];
-        wpred_[i] = sp_.w[i];
-        continue;
+    for_blocks(no, Work::items, [&](std::size_t lo, std::size_t hi) {
+      for (std::size_t k = lo; k < hi; ++k) {
+        const std::uint32_t i = own_[k];
+        if (initial) {
+          vpred_[i] = sp_.v[i];
+          wpred_[i] = sp_.w[i];
+          continue;
+        }
+        vpred_[i] = sp_.v[i] + hh * a_[i];
+        wpred_[i] = sp_.w[i] + hh * alpha_[i];
+        if (has_prev_) {
+          vpred_[i] += hh * (a_[i] - a_prev_[i]);
+          wpred_[i] += hh * (alpha_[i] - alpha_prev_[i]);
+        }
       }
-      vpred_[i] = sp_.v[i] + hh * a_[i];
-      wpred_[i] = sp_.w[i] + hh * alpha_[i];
-      if (has_prev_) {
-        vpred_[i] += hh * (a_[i] - a_prev_[i]);
-        wpred_[i] += hh * (alpha_[i] - alpha_prev_[i]);
-      }
-    }
+    });
     if (!initial && cfg_.extrapolated_predictor) {
       for (std::uint32_t i : own_) {
         a_prev_[i] = a_[i];
@@ -206,14 +205,15 @@ void DomainSim::step() {
   const bool open_kick = sg && step_ == block_start_;
   double t0 = omp_get_wtime();
   const std::size_t no = own_.size();
-#pragma omp parallel for schedule(static) if (no >= kOmpMin)
-  for (std::size_t q = 0; q < no; ++q) {
-    const std::uint32_t i = own_[q];
-    if (open_kick) sp_.v[i] += hk * ag_[i];
-    sp_.v[i] += hh * a_[i];
-    if (spin) sp_.w[i] += hh * alpha_[i];
-    sp_.x[i] += h * sp_.v[i];
-  }
+  for_blocks(no, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t q = lo; q < hi; ++q) {
+      const std::uint32_t i = own_[q];
+      if (open_kick) sp_.v[i] += hk * ag_[i];
+      sp_.v[i] += hh * a_[i];
+      if (spin) sp_.w[i] += hh * alpha_[i];
+      sp_.x[i] += h * sp_.v[i];
+    }
+  });
   ++step_;
   time_ = static_cast<double>(step_) * h;
   times_.integrate += omp_get_wtime() - t0;
@@ -231,13 +231,14 @@ void DomainSim::step() {
   }
   t0 = omp_get_wtime();
   const std::size_t no2 = own_.size();  // the exchange may have changed the own set
-#pragma omp parallel for schedule(static) if (no2 >= kOmpMin)
-  for (std::size_t q = 0; q < no2; ++q) {
-    const std::uint32_t i = own_[q];
-    sp_.v[i] += hh * a_[i];
-    if (spin) sp_.w[i] += hh * alpha_[i];
-    if (sg && close_kick) sp_.v[i] += hk * ag_[i];
-  }
+  for_blocks(no2, Work::items, [&](std::size_t lo, std::size_t hi) {
+    for (std::size_t q = lo; q < hi; ++q) {
+      const std::uint32_t i = own_[q];
+      sp_.v[i] += hh * a_[i];
+      if (spin) sp_.w[i] += hh * alpha_[i];
+      if (sg && close_kick) sp_.v[i] += hk * ag_[i];
+    }
+  });
   times_.integrate += omp_get_wtime() - t0;
   if (close_kick) close_gravity_block();
   ++times_.steps;
