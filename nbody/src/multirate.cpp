@@ -199,23 +199,16 @@ void count_active(LevelStats& ls, const std::uint32_t* active, std::size_t na, s
   // runs in parallel and the result does not depend on the thread count
   std::int64_t ks[kMaxLevel + 1] = {};
   const std::int64_t* to = topen.data();
-  auto add = [&](std::int64_t* sums, std::size_t lo, std::size_t hi) {
+  for_blocks(na, Work::items, [&](std::size_t lo, std::size_t hi) {
+    std::int64_t part[kMaxLevel + 1] = {};
     for (std::size_t r = lo; r < hi; ++r) {
       // level of the step: floor(log2(k)) (k is a power of two but for a promoted sphere's step)
       const auto k = static_cast<std::uint64_t>(step - to[active[r]]);
-      sums[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += static_cast<std::int64_t>(k);
+      part[std::min(63 - __builtin_clzll(k | 1), kMaxLevel)] += static_cast<std::int64_t>(k);
     }
-  };
-  if (use_team(na)) {
-#pragma omp parallel reduction(+ : ks[:kMaxLevel + 1])
-    {
-      std::size_t lo, hi;
-      static_block(na, omp_get_thread_num(), omp_get_num_threads(), lo, hi);
-      add(ks, lo, hi);
-    }
-  } else {
-    add(ks, 0, na);
-  }
+#pragma omp critical(ssdem_count_active)
+    for (int l = 0; l <= kMaxLevel; ++l) ks[l] += part[l];
+  });
   for (int l = 0; l <= kMaxLevel; ++l)
     if (ks[l]) ls.sphere_time[static_cast<std::size_t>(l)] += static_cast<double>(ks[l]) * h;
   ls.evaluations += static_cast<std::int64_t>(na);

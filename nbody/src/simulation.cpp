@@ -255,25 +255,16 @@ void Simulation::check_state(const std::vector<std::uint32_t>* only) {
   const std::uint32_t* idx = only ? only->data() : nullptr;
   // 0 * (sum of the values) is 0 unless one is NaN or infinite (no branch per sphere)
   // (a NaN or infinity in any term makes z so in any order of the sum: a team's order is free)
-  auto part = [&](std::size_t lo, std::size_t hi) {
+  double z = 0.0;
+  for_blocks(m, Work::items, [&](std::size_t lo, std::size_t hi) {
     double s = 0.0;
     for (std::size_t r = lo; r < hi; ++r) {
       const std::size_t i = idx ? idx[r] : r;
       s += 0.0 * (sp_.x[i] + sp_.v[i] + a_[i] + sp_.w[i] + ag_[i]).sum();
     }
-    return s;
-  };
-  double z = 0.0;
-  if (use_team(m)) {
-#pragma omp parallel reduction(+ : z)
-    {
-      std::size_t lo, hi;
-      static_block(m, omp_get_thread_num(), omp_get_num_threads(), lo, hi);
-      z += part(lo, hi);
-    }
-  } else {
-    z = part(0, m);
-  }
+#pragma omp critical(ssdem_check_state)
+    z += s;
+  });
   if (!(z == 0.0)) {
     // the sphere named: the first with a non-finite position if any (where a non-finite velocity
     // went first, before the field or the contacts spread it), else the first non-finite one
