@@ -28,7 +28,9 @@ namespace ssdem {
 /// where below this many the second thread's wake-up and the closing barrier cost more than the
 /// half of the pass they save (nbody/README.md, "OpenMP regions entered only where they pay").
 /// Tests lower both to 1 so that every region here runs on a team and compare with the serial
-/// bits (test_omp_team.cpp). Not to be changed while a simulation runs.
+/// bits (test_omp_team.cpp). TeamTuner (team_tuner.hpp) sets them between base steps, never
+/// inside one: a loop's team decision is taken afresh at each call, so a change between calls
+/// is like a change of the loop's size.
 struct TeamThresholds {
   std::size_t items = 2048;
   std::size_t stream = 16384;

@@ -438,6 +438,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
               std::to_string(cs->test_count()) + " re-insertion tests; " +
               std::to_string(cs->pair_count()) + " pairs listed at the end\n";
     if (bonds) tail += bond_report(*sim) + "\n";
+    tail += "thread teams: " + sim->team_tuner().report() + "\n";
     if (!tail.empty()) {
       spdlog::info("{}", tail.substr(0, tail.size() - 1));
       common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info + tail);

@@ -34,6 +34,10 @@ enum class GravityInner { held, impulse };
 constexpr std::array kGravityInner{common::Choice{"held", GravityInner::held},
                                    common::Choice{"impulse", GravityInner::impulse}};
 
+constexpr std::array kTeamModes{common::Choice{"auto", TeamMode::automatic}, common::Choice{"size", TeamMode::size},
+                                common::Choice{"every-pass", TeamMode::every_pass},
+                                common::Choice{"one-thread", TeamMode::one_thread}};
+
 enum class ContactPreset { none, gravel };
 constexpr std::array kContactPresets{common::Choice{"none", ContactPreset::none},
                                      common::Choice{"gravel", ContactPreset::gravel}};
@@ -177,6 +181,11 @@ common::Schema ssdem_schema() {
   s.add_real("output.progress_interval", 10.0, "s", 0.0, inf, "wall-clock seconds between progress lines");
   // run
   s.add_int("run.seed", 1, 0, 1LL << 62, "random seed (keyed by sphere id)");
+  s.add_choice("run.teams", TeamMode::automatic, kTeamModes,
+               "which loops get an OpenMP team: auto = the rule measured while the run goes, one of: "
+               "size = by loop size alone, every-pass = every pass over the spheres on the team too, "
+               "one-thread = no team but the gravity tree's (team_tuner.hpp); results are the same "
+               "bits whichever rule runs");
   // renamed keys, read with a warning for one release (same names as mpm-frag)
   s.add_alias("output.dir", "output.directory");
   s.add_alias("output.snapshot_every", "output.snapshot_interval");
@@ -280,6 +289,7 @@ SimConfig sim_config(const common::Scene& sc, const SphereSummary& sum, const Sp
   c.min_steps_per_contact = sc.real("time.min_steps_per_contact");
   c.dt = sc.real("time.dt");
   c.multirate = sc.boolean("time.multirate");
+  c.teams = sc.choice("run.teams", kTeamModes);
   c.pair_steps_per_contact = sc.real("time.steps_per_contact");
   const double mmax = sum.mmax, smin = sum.smin;
   // bonds (generated, or their contact times) need the spheres themselves

@@ -182,6 +182,7 @@ void Simulation::accelerations(const std::uint32_t* idx, std::size_t count) {
 }
 
 void Simulation::step() {
+  tuner_.tick(times_.gravity);  // gravity's regions are not gated by the team rules
   if (cfg_.multirate) {
     step_multirate();
     return;

@@ -213,6 +213,23 @@ nbody-late-bench: ## reaccumulated remnant (demo's last snapshot): us per sphere
 	  $(or $(LATE_SNAP),$$(ls $(LATE_RUN)/nbody/snap_*.h5 | tail -n 1)) $(RUNS)/nbody-late --time $(LATE_TIME) \
 	  --rounds $(LATE_ROUNDS) --threads $(LATE_THREADS) --sets '$(LATE_SETS)' --old-sets '$(LATE_OLD_SETS)'
 
+# nbody-teams-bench: ssdem-grav under each run.teams rule (size, one-thread, every-pass, auto =
+# measured while the run goes; nbody/include/ssdem/team_tuner.hpp) and auto on one thread, TEAMS_ROUNDS
+# rounds interleaved, TEAMS_THREADS threads, medians; TEAMS_OLD=<another ssdem-grav> adds it. TEAMS_CASES
+# is a list of NAME=SNAPSHOT:SECONDS (default: the demo's hand-off for 3 000 s and its remnant, the
+# last snapshot, for 3 000 s: `make -C pipelines demo` first). README "Thread teams chosen by measurement"
+# used the 1 km remnant and the disrupted 1 500 m debris of the convergence study too.
+TEAMS_CASES   ?= demo-debris=$(RUNS)/demo/spheres.h5:3000 demo-remnant=$$(ls $(RUNS)/demo/nbody/snap_*.h5 | tail -n 1):3000
+TEAMS_ROUNDS  ?= 3
+TEAMS_THREADS ?= 2
+TEAMS_OLD     ?=
+.PHONY: nbody-teams-bench
+nbody-teams-bench: ## each run.teams rule and the measured choice on debris and remnants (TEAMS_OLD= to compare)
+	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
+	mkdir -p $(RUNS)/nbody-teams
+	ROOT=$(ROOT) $(PY) $(NBODY_DIR)/teams_bench.py $(BIN_NBODY) $(RUNS)/nbody-teams $(TEAMS_CASES) \
+	  --rounds $(TEAMS_ROUNDS) --threads $(TEAMS_THREADS) $(if $(TEAMS_OLD),--old $(TEAMS_OLD))
+
 # nbody-chaos-floor: multi-rate against single-rate stepping on one hand-off (CHAOS_RUN, default
 # the demo: `make -C pipelines demo` first), each also with one position perturbed by 1e-12: M_LR/M_PB
 # and beta at 1 h and at CHAOS_END, the multi-rate difference against the chaos floor.

@@ -54,6 +54,7 @@ SimConfig scene(Spheres& sp, bool multirate) {
   c.walls.push_back(Plane{Vec3(0, 0, zmin + 0.02), Vec3::UnitZ()});
   c.multirate = multirate;
   c.pair_steps_per_contact = 30.0;
+  c.teams = TeamMode::size;  // the thresholds each run sets hold for all its steps
   return c;
 }
 
@@ -64,9 +65,11 @@ struct Result {
   ContactStats cs;  // summed over the steps (max_overlap_frac and the worst pair: the last step's)
 };
 
-Result run(const Spheres& sp, const SimConfig& c, int threads, TeamThresholds t, int steps) {
+// rotate > 0: the team rules in turn, each for `rotate` base steps (TeamTuner::force_rotation)
+Result run(const Spheres& sp, const SimConfig& c, int threads, TeamThresholds t, int steps, int rotate = 0) {
   const TeamSetting setting(threads, t);
   Simulation sim(sp, c);
+  if (rotate > 0) sim.team_tuner().force_rotation(rotate);
   ContactStats sum;
   for (int k = 0; k < steps; ++k) {
     sim.step();
@@ -182,3 +185,21 @@ TEST(OmpTeam, ThresholdsDecideBeforeTheRegion) {
 TEST(OmpTeam, MultirateStepsOnTeamsEqualTheSerialBits) { serial_equals_teams(true, 3000); }
 
 TEST(OmpTeam, SingleRateStepsOnTeamsEqualTheSerialBits) { serial_equals_teams(false, 400); }
+
+// The measured team rule (team_tuner.hpp) changes the rule between base steps: every rule, each
+// switched to in mid-run, and the measured choice itself must give the serial bits.
+TEST(OmpTeam, TeamRulesSwitchedInMidRunEqualTheSerialBits) {
+  Spheres sp;
+  SimConfig c = scene(sp, true);
+  const Result serial = run(sp, c, 1, TeamThresholds{}, 3000);
+  // the size rule at 64 items and 256 for passes over every sphere: with the 147 spheres, the
+  // three rules put different loops on the team; 7: switches at odd steps
+  const Result rotated = run(sp, c, 3, TeamThresholds{64, 256}, 3000, 7);
+  expect_same(serial, rotated);
+  c.teams = TeamMode::automatic;
+  const Result measured = run(sp, c, 3, TeamThresholds{}, 3000);
+  expect_same(serial, measured);
+  // the thresholds are restored when the simulation ends
+  EXPECT_EQ(team_thresholds().items, TeamThresholds{}.items);
+  EXPECT_EQ(team_thresholds().stream, TeamThresholds{}.stream);
+}

@@ -58,6 +58,7 @@
 #include "ssdem/level_rules.hpp"
 #include "ssdem/multirate.hpp"
 #include "ssdem/spheres.hpp"
+#include "ssdem/team_tuner.hpp"
 
 namespace ssdem {
 
@@ -85,6 +86,9 @@ struct SimConfig {
   BondSet bonds;  ///< bonds of a fresh start (bonds.hpp; a restart takes SimState::bonds); needs contacts
   bool multirate = false;              ///< block time steps on power-of-two levels (multirate.hpp)
   double pair_steps_per_contact = 30;  ///< N of the per-pair level rule (time.steps_per_contact)
+  /// run.teams: the team rule measured while the run goes ("auto", team_tuner.hpp), or one rule
+  /// throughout ("size": teams by loop size alone, omp_team.hpp). Same bits either way.
+  TeamMode teams = TeamMode::automatic;
 };
 
 /// g's data where multi-rate spheres on steps shorter than the gravity block hold the field
@@ -191,6 +195,9 @@ class Simulation {
   const SimConfig& config() const { return cfg_; }
   const ContactStats& contact_stats() const { return cstats_; }
   const PhaseTimes& times() const { return times_; }
+  /// The team rule's choice (run.teams; team_tuner.hpp); tests force a rule through it.
+  TeamTuner& team_tuner() { return tuner_; }
+  const TeamTuner& team_tuner() const { return tuner_; }
   const std::vector<Vec3>& acceleration() const { return a_; }
   const std::vector<Vec3>& self_gravity_acceleration() const { return ag_; }
   bool has_tree() const { return tree_ != nullptr; }
@@ -259,6 +266,7 @@ class Simulation {
   void setup_bonds(BondSet b);
   ContactStats cstats_;
   PhaseTimes times_;
+  TeamTuner tuner_{cfg_.teams};
   std::int64_t keep_every_ = 0;
   std::optional<SimState> last_good_;
 };
