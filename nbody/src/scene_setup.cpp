@@ -182,10 +182,11 @@ common::Schema ssdem_schema() {
   // run
   s.add_int("run.seed", 1, 0, 1LL << 62, "random seed (keyed by sphere id)");
   s.add_choice("run.teams", TeamMode::automatic, kTeamModes,
-               "which loops get an OpenMP team: auto = the rule measured while the run goes, one of: "
-               "size = by loop size alone, every-pass = every pass over the spheres on the team too, "
-               "one-thread = no team but the gravity tree's (team_tuner.hpp); results are the same "
-               "bits whichever rule runs");
+               "which loops get an OpenMP team (one process; MPI ranks use size): size = by loop "
+               "size; every-pass = also every pass over all spheres (drift, level scan); one-thread "
+               "= none of the gated loops (the gravity tree and bonds keep their teams); auto = "
+               "whichever of the three is fastest, measured while the run goes (team_tuner.hpp). "
+               "Results are the same bits under every rule");
   // renamed keys, read with a warning for one release (same names as mpm-frag)
   s.add_alias("output.dir", "output.directory");
   s.add_alias("output.snapshot_every", "output.snapshot_interval");

@@ -17,6 +17,19 @@ constexpr double kLoses = 1.3;        // a rule this much slower than the best b
 constexpr int kMaxBackoff = 15;       // cycles skipped at most
 constexpr double kMinWindowS = 0.02;  // W doubles while a window is shorter
 constexpr std::int64_t kMaxWindow = std::int64_t{1} << 16;
+
+// The thresholds found when the first of the tuners that set them was made (the size rule of
+// all of them), and how many such tuners are alive: a second simulation made while another's
+// tuner has set "never" must not take that for its size rule, and the thresholds are restored
+// when the last one ends.
+struct Base {
+  TeamThresholds t;
+  int users = 0;
+};
+Base& base() {
+  static Base b;
+  return b;
+}
 }  // namespace
 
 const char* TeamTuner::name(Rule r) {
@@ -29,16 +42,29 @@ const char* TeamTuner::name(Rule r) {
 }
 
 TeamTuner::TeamTuner(TeamMode mode) {
+  on_ = mode == TeamMode::automatic && omp_get_max_threads() > 1;
+  one_ = mode == TeamMode::automatic && !on_;
+  now_ = &omp_get_wtime;
   items0_ = team_thresholds().items;
   stream0_ = team_thresholds().stream;
-  on_ = mode == TeamMode::automatic && omp_get_max_threads() > 1;
-  now_ = &omp_get_wtime;
   if (mode == TeamMode::every_pass) force(every_pass);
   if (mode == TeamMode::one_thread) force(one_thread);
+  if (on_) register_user();
+}
+
+void TeamTuner::register_user() {
+  if (registered_) return;
+  registered_ = true;
+  Base& b = base();
+  if (b.users++ == 0) b.t = team_thresholds();
+  items0_ = b.t.items;
+  stream0_ = b.t.stream;
 }
 
 TeamTuner::~TeamTuner() {
-  if (on_ || forced_) team_thresholds() = TeamThresholds{items0_, stream0_};
+  if (!registered_) return;
+  Base& b = base();
+  if (--b.users == 0) team_thresholds() = b.t;
 }
 
 void TeamTuner::apply(Rule r) const {
@@ -50,6 +76,7 @@ void TeamTuner::apply(Rule r) const {
 }
 
 void TeamTuner::force(Rule r) {
+  register_user();
   forced_ = true;
   rotate_ = 0;
   in_window_ = 0;
@@ -98,10 +125,10 @@ void TeamTuner::close(double excluded_s) {
     const Rule b = best();
     for (int k = 0; k < ntry_; ++k) {
       const Rule r = order_[k];
-      if (r == b) continue;
-      backoff_[r] = estimate(r) > kLoses * estimate(b) ? std::min(2 * backoff_[r] + 1, kMaxBackoff) : 0;
+      backoff_[r] = r != b && estimate(r) > kLoses * estimate(b) ? std::min(2 * backoff_[r] + 1, kMaxBackoff) : 0;
       skip_[r] = backoff_[r];
     }
+    backoff_[b] = skip_[b] = 0;  // the winner is tried in every cycle from now on
     ntry_ = 0;
     cur_ = b;
     exploit_left_ = kExploit;
@@ -132,7 +159,8 @@ void TeamTuner::tick(double excluded_s) {
     ++steps_[cur_];
     return;
   }
-  if (in_window_ == 0 && t0_ == 0.0) {  // the first base step: the first cycle tries every rule
+  if (!started_) {  // the first base step: the first cycle tries every rule
+    started_ = true;
     for (int r = 0; r < kRules; ++r) order_[r] = static_cast<Rule>(r);
     ntry_ = kRules;
     tried_ = 0;
@@ -149,7 +177,9 @@ std::string TeamTuner::report() const {
   std::int64_t total = 0;
   for (std::int64_t s : steps_) total += s;
   std::string out;
-  if (forced_) {
+  if (one_) {
+    out = "auto (one thread: no team to choose)";
+  } else if (forced_) {
     out = rotate_ > 0 ? "the rules in turn, " + std::to_string(rotate_) + " base steps each"
                       : std::string(name(cur_)) + " (run.teams)";
   } else if (!on_) {

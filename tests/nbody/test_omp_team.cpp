@@ -197,9 +197,16 @@ TEST(OmpTeam, TeamRulesSwitchedInMidRunEqualTheSerialBits) {
   const Result rotated = run(sp, c, 3, TeamThresholds{64, 256}, 3000, 7);
   expect_same(serial, rotated);
   c.teams = TeamMode::automatic;
-  const Result measured = run(sp, c, 3, TeamThresholds{}, 3000);
+  const Result measured = run(sp, c, 3, TeamThresholds{64, 256}, 3000);
   expect_same(serial, measured);
-  // the thresholds are restored when the simulation ends
-  EXPECT_EQ(team_thresholds().items, TeamThresholds{}.items);
-  EXPECT_EQ(team_thresholds().stream, TeamThresholds{}.stream);
+  // a simulation's tuner restores the thresholds it found when it ends, whatever rule it set
+  const TeamSetting setting(3, TeamThresholds{64, 256});
+  {
+    Simulation sim(sp, c);
+    sim.team_tuner().force(TeamTuner::one_thread);
+    sim.step();
+    EXPECT_EQ(team_thresholds().items, static_cast<std::size_t>(-1));
+  }
+  EXPECT_EQ(team_thresholds().items, 64u);
+  EXPECT_EQ(team_thresholds().stream, 256u);
 }

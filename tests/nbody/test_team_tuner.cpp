@@ -7,6 +7,7 @@
 #include <omp.h>
 
 #include <array>
+#include <memory>
 
 #include "../../nbody/src/omp_team.hpp"
 #include "ssdem/team_tuner.hpp"
@@ -106,4 +107,28 @@ TEST(TeamTuner, OffForcedAndRestored) {
     EXPECT_FALSE(one.on());
   }
   omp_set_num_threads(old);
+}
+
+// Two simulations alive at once (e.g. one per test case): the second tuner must take the
+// thresholds found before the first, not the first's current rule, as its size rule, and the
+// thresholds come back when the last one ends, in either order.
+TEST(TeamTuner, TunersAliveTogetherShareTheSizeRule) {
+  const TwoThreads two;
+  const TeamThresholds before = team_thresholds();
+  auto first = std::make_unique<TeamTuner>(TeamMode::one_thread);  // sets "never"
+  ASSERT_EQ(team_thresholds().items, static_cast<std::size_t>(-1));
+  {
+    TeamTuner second(TeamMode::automatic);
+    second.set_clock(&scripted_clock);
+    drive(second, {1e-4, 5e-4, 5e-4}, 20000);  // the size rule cheapest
+    EXPECT_EQ(second.current(), TeamTuner::size_rule);
+    EXPECT_EQ(team_thresholds().items, before.items);
+    EXPECT_EQ(team_thresholds().stream, before.stream);
+    first.reset();  // the first ends first: the second's rule stays
+    EXPECT_EQ(team_thresholds().items, before.items);
+    second.force(TeamTuner::every_pass);
+    EXPECT_EQ(team_thresholds().stream, 1u);
+  }
+  EXPECT_EQ(team_thresholds().items, before.items);  // the last one restored them
+  EXPECT_EQ(team_thresholds().stream, before.stream);
 }

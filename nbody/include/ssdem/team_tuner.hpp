@@ -9,10 +9,10 @@
 ///   * the demo's 1 022 spheres: no gated team at all (the second thread's teams cost more than
 ///     they save);
 ///   * the 1 km remnant, 8 217 spheres at rest: the passes over every sphere (drift, level scan)
-///     on the team too, so that each thread keeps its own spheres in its own cache; ~10 % faster
-///     than the size rule, 1.6x faster than no team;
-///   * the sparse debris of a disrupted target, 2 493 spheres: the size rule or no team; every
-///     pass on the team was 2x slower there.
+///     on the team too (each thread then keeps its own spheres in its own cache), or the size
+///     rule: the two lie within the rounds' spread; no team was 1.27x slower;
+///   * the sparse debris of a disrupted target, 2 493 spheres: the size rule or no team (within
+///     the rounds' spread); every pass on the team was 2.2x slower there.
 /// So the rule is measured, as FFTW measures its plans. The base steps are cut into windows of W
 /// steps, each run under one rule. A window's cost is its wall time per base step, less the
 /// gravity evaluations: the tree's regions are not gated by these rules. Each rule keeps its last
@@ -20,7 +20,7 @@
 /// another process does not decide. A cycle tries every rule that is not backed off for one
 /// window each, then runs the rule with the lowest estimate for 32 windows. A rule that lost by
 /// more than 30 % skips its next 1, 3, 7 or 15 cycles, so a slow rule costs little after its
-/// first trials. W starts at 32 and doubles while a window takes less than 20 ms, up to 2^16.
+/// first trials; the winner of a cycle is tried in every cycle after it. W starts at 32 and doubles while a window takes less than 20 ms, up to 2^16.
 /// Every rule gives the same bits (omp_team.hpp: each item written by one thread, sums exact or
 /// of zeros), so the choice changes speed only; tests compare runs with each rule forced.
 #pragma once
@@ -43,7 +43,9 @@ class TeamTuner {
   /// automatic: measured (with more than one thread); size: the thresholds stay as they are and
   /// tick() only counts; every_pass, one_thread: that rule throughout (force()).
   explicit TeamTuner(TeamMode mode);
-  ~TeamTuner();  ///< restores the thresholds it found
+  /// The thresholds found before the first of the tuners that set them (auto with more than one
+  /// thread, or forced) are every such tuner's size rule; the last of them to end restores them.
+  ~TeamTuner();
   TeamTuner(const TeamTuner&) = delete;
   TeamTuner& operator=(const TeamTuner&) = delete;
 
@@ -73,7 +75,12 @@ class TeamTuner {
   double estimate(Rule r) const;
   void apply(Rule r) const;
 
+  void register_user();
+
   bool on_ = false;
+  bool one_ = false;         ///< auto asked for, one thread
+  bool started_ = false;
+  bool registered_ = false;  ///< sets the thresholds (auto or forced): restores them at the end
   bool forced_ = false;
   std::int64_t rotate_ = 0;  ///< force_rotation's period (0: none)
   double (*now_)() = nullptr;

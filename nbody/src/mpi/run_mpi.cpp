@@ -145,7 +145,10 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
      << " s\nself-gravity: " << (cfg.self_gravity ? (cfg.direct_gravity ? "direct" : "tree") : "off")
      << "\ncontacts: " << (cfg.contacts ? "on" : "off") << " (pair kernel in packs of " << ContactSystem::lanes()
      << ")\nk_n = " << cfg.contact.kn
-     << " N/m, parts mask = " << cfg.contact.parts << "\n";
+     << " N/m, parts mask = " << cfg.contact.parts << "\nthread teams: size (MPI ranks; run.teams "
+     << "applies to one process)\n";
+  if (cfg.teams == TeamMode::every_pass || cfg.teams == TeamMode::one_thread)
+    on_root(comm, [] { spdlog::warn("run.teams: MPI ranks use the size rule; the setting applies to one process"); });
   const std::string run_info = ri.str();
   on_root(comm, [&] { common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info); });
   spdlog::info("ssdem-grav on {} MPI ranks: {} spheres, dt = {} s", comm.size, sim->global_count(), cfg.dt);
