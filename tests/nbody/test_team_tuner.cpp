@@ -68,6 +68,23 @@ TEST(TeamTuner, SettlesOnTheCheapestRuleAndFollowsAChange) {
   EXPECT_NE(rep.find("one-thread"), std::string::npos) << rep;
 }
 
+// A rule that won after a long backoff starts afresh when it loses again: a cycle's winner is
+// tried in every later cycle, and its next backoff is 1 cycle, not the 15 it had earned before.
+// (With the winner's backoff kept, as before the review, one-thread sat out the last phase and
+// took 3 % of it.)
+TEST(TeamTuner, AWinnersBackoffStartsAfresh) {
+  const TwoThreads two;
+  TeamTuner t(TeamMode::automatic);
+  t.set_clock(&scripted_clock);
+  drive(t, {1e-3, 1e-3, 2e-3}, 80000);   // one-thread loses: backed off up to 15 cycles
+  auto d = drive(t, {1e-3, 1e-3, 2e-4}, 150000);  // it becomes the cheapest and wins
+  ASSERT_GT(share(d, TeamTuner::one_thread), 0.5);
+  d = drive(t, {1e-3, 1e-3, 2e-3}, 13000);  // it loses again for ~3 cycles
+  ASSERT_LT(share(d, TeamTuner::one_thread), 0.5);
+  d = drive(t, {1e-3, 1e-3, 2e-4}, 60000);  // and is the cheapest again
+  EXPECT_GT(share(d, TeamTuner::one_thread), 0.6);
+}
+
 TEST(TeamTuner, ShortWindowsGrowAndExcludedTimeIsNotCost) {
   const TwoThreads two;
   TeamTuner t(TeamMode::automatic);
