@@ -89,7 +89,12 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   if (owned_ && owned_->size() != n) throw std::logic_error("ContactSystem::set_owned: the mask does not match the spheres");
   const std::uint8_t* own = owned_ && n > 0 ? owned_->data() : nullptr;
   std::size_t nforeign = 0, nkernel = 0, nshared = 0;
-  in_team(use_team(P), [&] {
+  // On a team each loop runs in contiguous blocks whose cuts follow the threads' measured times
+  // (loop_split.hpp): a pair in contact costs the kernel, one whose gap is only tested a few
+  // loads, and equal counts leave one thread waiting.
+  const bool pair_team = use_team(P);
+  pair_split_.begin(P, pair_team ? omp_get_max_threads() : 1);
+  in_team(pair_team, [&] {
     Worst lw;
     std::size_t lc = 0, lforeign = 0, lkernel = 0, lshared = 0;
     auto on_contact = [&](std::uint32_t p, double frac) {  // overlap / smaller radius
@@ -103,8 +108,11 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     std::uint8_t ws[kLanes];
     const std::uint8_t* whole = sub && !sub->whole.empty() ? sub->whole.data() : nullptr;
     int nl = 0;
-#pragma omp for schedule(static) nowait
-    for (std::size_t q = 0; q < P; ++q) {
+    const int tid = omp_get_thread_num(), nth = omp_get_num_threads();
+    std::size_t q0, q1;
+    pair_split_.block(P, tid, nth, q0, q1);
+    const double t0 = nth > 1 ? omp_get_wtime() : 0.0;
+    for (std::size_t q = q0; q < q1; ++q) {
       const std::uint32_t p = sub ? sub->pairs[q] : static_cast<std::uint32_t>(q);
       const std::uint32_t i = pi_[p], j = pj_[p];
       if (own && !own[i] && !own[j]) {  // both forces are other ranks' (set_owned)
@@ -131,6 +139,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       }
     }
     if (nl > 0) pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
+    if (nth > 1) pair_split_.record(tid, omp_get_wtime() - t0);
 #pragma omp critical(ssdem_contact_stats)
     {
       ncont += lc;
@@ -140,6 +149,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       worst.offer(lw.frac, lw.a, lw.b, lw.key);
     }
   });
+  pair_split_.end();
   st.contacts = ncont;
   st.foreign_pairs = nforeign;
   st.kernel_pairs = nkernel;
@@ -177,11 +187,16 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
     }
   };
   const bool every = 4 * ncont >= P - nforeign;  // (the skipped pairs are no one's records here)
-  in_team(use_team(ns), [&] {
+  const bool sphere_team = use_team(ns);
+  sphere_split_.begin(ns, sphere_team ? omp_get_max_threads() : 1);
+  in_team(sphere_team, [&] {
     Worst lw;
     std::size_t lc = 0;
-#pragma omp for schedule(static)
-    for (std::size_t r = 0; r < ns; ++r) {
+    const int tid = omp_get_thread_num(), nth = omp_get_num_threads();
+    std::size_t r0, r1;
+    sphere_split_.block(ns, tid, nth, r0, r1);
+    const double t0 = nth > 1 ? omp_get_wtime() : 0.0;
+    for (std::size_t r = r0; r < r1; ++r) {
       const std::size_t k = sub ? sub->spheres[r] : r;
       const double h = sub ? sub->hsphere[r] : h0;
       Vec3 f = Vec3::Zero(), t = Vec3::Zero();
@@ -221,12 +236,14 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       T[k] = t;
       if (diss) diss[k] += dk;
     }
+    if (nth > 1) sphere_split_.record(tid, omp_get_wtime() - t0);
 #pragma omp critical(ssdem_wall_stats)
     {
       nwc += lc;
       wworst.offer(lw.frac, lw.a, lw.b, lw.key);
     }
   });
+  sphere_split_.end();
   st.wall_contacts = nwc;
   st.max_overlap_frac = worst.frac;
   st.worst_a = worst.a;

@@ -75,6 +75,7 @@
 #include "ssdem/cell_table.hpp"
 #include "ssdem/contact_law.hpp"
 #include "ssdem/drift_schedule.hpp"
+#include "ssdem/loop_split.hpp"
 #include "ssdem/spheres.hpp"
 
 namespace ssdem {
@@ -294,6 +295,7 @@ class ContactSystem {
   // schedule, and the spheres it names for this call
   const Drift* drift_ = nullptr;
   DriftSchedule sched_;
+  LoopSplit pair_split_, sphere_split_;  ///< compute()'s team blocks (speed only, never results)
   std::vector<std::uint32_t> cand_;
   std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0, tests_ = 0;
   std::vector<std::uint64_t> waiting_;    // new pairs not merged yet (keys i << 32 | j, i < j, sorted)
