@@ -29,10 +29,14 @@ void LoopSplit::block(std::size_t n, int t, int T, std::size_t& lo, std::size_t&
   }
   const Cuts& k = classes_[size_class(n)];
   const bool have = k.T == T && static_cast<int>(k.c.size()) == T + 1;
+  const std::vector<double>& pin = pinned();
+  const bool pinned_here = static_cast<int>(pin.size()) == T - 1;
   auto at = [&](int j) -> std::size_t {
     if (j <= 0) return 0;
     if (j >= T) return n;
-    const double f = have ? k.c[static_cast<std::size_t>(j)] : static_cast<double>(j) / T;
+    const double f = pinned_here ? pin[static_cast<std::size_t>(j) - 1]
+                     : have      ? k.c[static_cast<std::size_t>(j)]
+                                 : static_cast<double>(j) / T;
     return std::min(n, static_cast<std::size_t>(f * static_cast<double>(n)));
   };
   lo = at(t);
@@ -46,11 +50,17 @@ void LoopSplit::begin(std::size_t n, int T) {
 }
 
 void LoopSplit::end() {
-  if (T_ <= 1 || n_ == 0) return;
-  for (double t : times_)
-    if (!(t >= 0.0)) return;  // a thread did not report (no team after all)
+  if (T_ <= 1 || n_ == 0 || !pinned().empty()) return;
+  // the team that ran: threads 0 .. T - 1 reported (a region may get fewer threads than asked)
+  int T = 0;
+  while (T < T_ && times_[static_cast<std::size_t>(T)] >= 0.0) {
+    if (!std::isfinite(times_[static_cast<std::size_t>(T)])) return;
+    ++T;
+  }
+  for (int j = T; j < T_; ++j)
+    if (times_[static_cast<std::size_t>(j)] >= 0.0) return;  // (not a team's numbering)
+  if (T < 2) return;
   Cuts& k = classes_[size_class(n_)];
-  const int T = T_;
   if (k.T != T || static_cast<int>(k.c.size()) != T + 1) {
     k.T = T;
     k.c.resize(static_cast<std::size_t>(T) + 1);
@@ -74,7 +84,7 @@ void LoopSplit::end() {
   const double floor_len = 1.0 / (8.0 * T);
   for (int cut = 1; cut < T; ++cut) {
     double& c = next[static_cast<std::size_t>(cut)];
-    c = std::clamp(c, next[static_cast<std::size_t>(cut) - 1] + floor_len, 1.0 - (T - cut) * floor_len);
+    c = std::min(std::max(c, next[static_cast<std::size_t>(cut) - 1] + floor_len), 1.0 - (T - cut) * floor_len);
   }
   k.c = next;
 }

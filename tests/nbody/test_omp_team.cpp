@@ -16,6 +16,7 @@
 #include "../../nbody/src/omp_team.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
+#include "ssdem/loop_split.hpp"
 #include "ssdem/simulation.hpp"
 
 using namespace ssdem;
@@ -185,6 +186,20 @@ TEST(OmpTeam, ThresholdsDecideBeforeTheRegion) {
 TEST(OmpTeam, MultirateStepsOnTeamsEqualTheSerialBits) { serial_equals_teams(true, 3000); }
 
 TEST(OmpTeam, SingleRateStepsOnTeamsEqualTheSerialBits) { serial_equals_teams(false, 400); }
+
+// The contact loops' blocks (loop_split.hpp) decide only who computes what: with the cuts pinned
+// to extremes (thread 2, then thread 0, with 90 % of every loop) the steps give the serial bits.
+TEST(OmpTeam, ExtremeLoopCutsEqualTheSerialBits) {
+  Spheres sp;
+  const SimConfig c = scene(sp, true);
+  const Result serial = run(sp, c, 1, TeamThresholds{}, 1500);
+  for (std::vector<double> cuts : {std::vector<double>{0.05, 0.1}, std::vector<double>{0.9, 0.95}}) {
+    LoopSplit::pinned() = cuts;
+    const Result skewed = run(sp, c, 3, TeamThresholds{1, 1}, 1500);
+    LoopSplit::pinned().clear();
+    expect_same(serial, skewed);
+  }
+}
 
 // The measured team rule (team_tuner.hpp) changes the rule between base steps: every rule, each
 // switched to in mid-run, and the measured choice itself must give the serial bits.

@@ -31,13 +31,22 @@ class LoopSplit {
   void record(int t, double seconds) {
     if (t >= 0 && static_cast<std::size_t>(t) < times_.size()) times_[static_cast<std::size_t>(t)] = seconds;
   }
-  /// Before the region: size the timers for a team of T (T = 1: nothing is recorded or moved).
+  /// Before the region: size the timers for a team of up to T threads (T = 1: nothing is
+  /// recorded or moved).
   void begin(std::size_t n, int T);
-  /// After the region: move the cuts of n's size class towards equal times.
+  /// After the region: move the cuts of n's size class for the team that reported (threads 0 to
+  /// m - 1, m >= 2, each with a finite time; else nothing moves) towards equal times.
   void end();
   /// The cuts (fractions of n, T - 1 of them) of n's size class for a team of T; uniform if none
   /// were measured yet (exposed for tests).
   std::vector<double> cuts(std::size_t n, int T) const;
+  /// Tests: every LoopSplit of the process uses these cuts for teams of cuts.size() + 1 threads
+  /// and moves none (empty: measured cuts again), so that results can be compared under extreme
+  /// splits.
+  static std::vector<double>& pinned() {
+    static std::vector<double> p;
+    return p;
+  }
 
  private:
   static std::size_t size_class(std::size_t n);
