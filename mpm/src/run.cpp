@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "common/build_check.hpp"
 #include "common/finite.hpp"
 #include "common/log.hpp"
 #include "common/run_dir.hpp"
@@ -94,6 +95,7 @@ RunSummary run_mpm(const common::Scene& scene, const common::Provenance& prov, c
     drv = std::move(ck->driver);
     if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
     spdlog::info("restarted from {} at step {} (t = {:.6g} s)", restart, solver.step_count(), solver.time());
+    if (const std::string note = common::other_build_note(restart); !note.empty()) spdlog::warn("restart: {}", note);
   } else {
     solver.initialize();
   }

@@ -12,10 +12,11 @@
 #include <vector>
 
 #include "common/atomic_file.hpp"
+#include "common/build_check.hpp"
 #include "common/finite.hpp"
+#include "common/log.hpp"
 #include "common/run_dir.hpp"
 #include "common/run_identity.hpp"
-#include "common/log.hpp"
 #include "common/series_csv.hpp"
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
@@ -283,6 +284,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
                    "from the restart on", restart);
     sim = std::make_unique<Simulation>(std::move(st), cfg);
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
+    if (const std::string note = common::other_build_note(restart); !note.empty()) {
+      spdlog::warn("restart: {}", note);
+      info += note + "\n";
+    }
   }
   const SimConfig& cfg = sim->config();
   std::string run_info;

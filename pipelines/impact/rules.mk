@@ -69,6 +69,16 @@ TIMED = $(IMPACT_DIR)/timed.sh $(RUN)/timing
 # if nothing the stage depends on changed since that run started. The tools publish a run's files
 # only when it completes, so no stage directory is deleted first.
 RESUME = $(IMPACT_DIR)/resume.sh
+# RESUME_ACROSS_BUILDS=1: the tools are order-only prerequisites of the stages, so a rebuilt tool
+# (a fix or an update in the middle of a long run) neither reruns a finished stage nor keeps an
+# interrupted one from continuing its checkpoint; the scene, the settings and the input files
+# still decide. The tool then logs, and ssdem-grav records in run_info.txt, that the checkpoint
+# came from another build: the run continues from the same state with the new build's
+# arithmetic, bit-identical to an uninterrupted run only where both builds compute the same.
+# Default 0: a rebuilt tool reruns its stage and those after it from the start.
+RESUME_ACROSS_BUILDS ?= 0
+stage_tool = $(if $(filter 1,$(RESUME_ACROSS_BUILDS)),,$(1))
+stage_tool_order = $(if $(filter 1,$(RESUME_ACROSS_BUILDS)),$(1))
 # mpm-frag's checkpoint: <output.prefix>_checkpoint.h5 (both scene families use prefix "frag")
 FRAGMENT_CHECKPOINT ?= frag_checkpoint.h5
 # ---- cluster runs ----
@@ -135,7 +145,7 @@ $(RUN)/.dir:
 
 # 1. fragment: MPM with the Tonge-Ramesh model; final.h5 links the last snapshot; done lists every
 #    file (snapshots frag_<step>.h5 and, when material left the grid, frag_outflow.h5).
-$(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(BIN_MPM) $(call stage_incomplete,$(RUN)/fragment/done) | $(RUN)/.dir
+$(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(call stage_tool,$(BIN_MPM)) $(call stage_incomplete,$(RUN)/fragment/done) | $(RUN)/.dir $(call stage_tool_order,$(BIN_MPM))
 	$(TIMED_RANKS) fragment $(RESUME) $(RUN)/fragment $(FRAGMENT_CHECKPOINT) $(filter-out FORCE,$^) -- \
 	  $(ON_RANKS) $(BIN_MPM) --scene $(FRAGMENT_SCENE) $(FRAGMENT_SETS)
 	cd $(RUN)/fragment && ln -sf $$(ls frag_[0-9]*.h5 | tail -n 1) final.h5
@@ -143,13 +153,13 @@ $(RUN)/fragment/done: $(FRAGMENT_SCENE) $(RUN)/.vars/FRAGMENT $(BIN_MPM) $(call 
 impact-fragment: $(RUN)/fragment/done
 
 # 2. hand-off: one sphere per (coarsened) cell, audit JSON beside it.
-$(RUN)/spheres.h5: $(RUN)/fragment/done $(RUN)/.vars/HANDOFF $(BIN_HANDOFF)
+$(RUN)/spheres.h5: $(RUN)/fragment/done $(RUN)/.vars/HANDOFF $(call stage_tool,$(BIN_HANDOFF)) | $(call stage_tool_order,$(BIN_HANDOFF))
 	$(TIMED) handoff $(BIN_HANDOFF) -i $(RUN)/fragment/final.h5 -o $@ $(HANDOFF_VARS) \
 	  $$(test -f $(RUN)/fragment/frag_outflow.h5 && echo --outflow $(RUN)/fragment/frag_outflow.h5)
 impact-handoff: $(RUN)/spheres.h5
 
 # 3. reaccumulate: self-gravity + soft spheres for NBODY_TIME seconds; done lists the snapshots.
-$(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBODY) $(call stage_incomplete,$(RUN)/nbody/done)
+$(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(call stage_tool,$(BIN_NBODY)) $(call stage_incomplete,$(RUN)/nbody/done) | $(call stage_tool_order,$(BIN_NBODY))
 	$(TIMED_RANKS) reaccumulate $(RESUME) $(RUN)/nbody checkpoint.h5 $(filter-out FORCE,$^) -- \
 	  $(ON_RANKS) $(BIN_NBODY) --scene $(NBODY_SCENE) \
 	  --set initial.file=$(RUN)/spheres.h5 --set time.end=$(NBODY_TIME) --set 'output.times=$(NBODY_TIMES)' \
@@ -158,7 +168,7 @@ $(RUN)/nbody/done: $(RUN)/spheres.h5 $(NBODY_SCENE) $(RUN)/.vars/NBODY $(BIN_NBO
 impact-reaccumulate: $(RUN)/nbody/done
 
 # 4. analyse: largest remnant, bound mass, beta, damage profiles over the N-body snapshots.
-$(RUN)/analysis.json: $(RUN)/nbody/done $(RUN)/.vars/ANALYSE $(BIN_ANALYSE)
+$(RUN)/analysis.json: $(RUN)/nbody/done $(RUN)/.vars/ANALYSE $(call stage_tool,$(BIN_ANALYSE)) | $(call stage_tool_order,$(BIN_ANALYSE))
 	$(TIMED) analyse $(BIN_ANALYSE) $(RUN)/spheres.h5 $$(cat $(RUN)/nbody/done) \
 	  --mpm $(RUN)/fragment/final.h5 --mpm-initial $$(head -n 1 $(RUN)/fragment/done) \
 	  $(ANALYSE_VARS) -o $(RUN)/analysis

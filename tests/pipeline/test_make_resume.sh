@@ -11,7 +11,12 @@
 #   3. killed again and its checkpoint damaged (truncated): the tool refuses it, naming it, and the
 #      stage runs from the start to the same result;
 #   4. killed again, then make with a later NBODY_TIME: the checkpoint is older than the changed
-#      settings, so the stage runs from the start, to the new end.
+#      settings, so the stage runs from the start, to the new end;
+#   5. a fresh run (with a copy of the tools) killed in its N-body stage, every tool then rebuilt
+#      (touched) and its checkpoint marked as written by another build: make with
+#      RESUME_ACROSS_BUILDS=1 keeps the finished stages, continues the N-body from its
+#      checkpoint, says that the checkpoint came from another build (log and run_info.txt), and,
+#      the code being the same, gives the reference's result.
 # usage: test_make_resume.sh <repo root> <build dir> <work dir>
 set -euo pipefail
 root=$1; build=$2; work=$3
@@ -115,4 +120,23 @@ grep -q "restarted from" "$run/nbody/run_info.txt" && fail "run_info says restar
 /usr/bin/python3 -c 'import h5py,sys; t=float(h5py.File(sys.argv[1])["/"].attrs["time"]); assert 320 <= t < 321, t' \
   "$(tail -n 1 "$run/nbody/done")" || fail "the rerun did not reach the new end"
 echo "ok: changed settings ran the stage from the start"
+
+tools=$work/tools run5=$work/run5
+mkdir -p "$tools/mpm" "$tools/handoff" "$tools/nbody/analysis"
+for t in mpm/mpm-frag handoff/mpm2spheres nbody/ssdem-grav nbody/analysis/ssdem-analyse; do cp -p "$build/$t" "$tools/$t"; done
+interrupt KILL "$run5" nbody checkpoint.h5 ssdem-grav NBODY_TIME=300 BUILD="$tools"
+frag=$(stat -c '%.9Y' "$run5/fragment/done"); handoff=$(stat -c '%.9Y' "$run5/spheres.h5")
+ck=$(ls -t "$run5"/nbody/.staging-*/checkpoint.h5 | head -n 1)
+/usr/bin/python3 -c 'import h5py,sys; h5py.File(sys.argv[1], "r+")["provenance"].attrs["git_sha"] = "0000000other"' "$ck"
+sleep 1; touch "$tools"/mpm/mpm-frag "$tools"/handoff/mpm2spheres "$tools"/nbody/ssdem-grav "$tools"/nbody/analysis/ssdem-analyse
+mk "$run5" "$work/resume5.log" NBODY_TIME=300 BUILD="$tools" RESUME_ACROSS_BUILDS=1
+grep -q "resume.sh: continuing the interrupted run from $ck" "$work/resume5.log" ||
+  { cat "$work/resume5.log"; fail "the N-body stage did not continue across the rebuilt tools"; }
+[ "$(stat -c '%.9Y' "$run5/fragment/done")" = "$frag" ] || fail "the finished fragment stage was rerun for a rebuilt tool"
+[ "$(stat -c '%.9Y' "$run5/spheres.h5")" = "$handoff" ] || fail "the finished hand-off was rerun for a rebuilt tool"
+grep -q "restart: checkpoint $ck was written by ssdem-grav .*(git 0000000other)" "$work/resume5.log" ||
+  { cat "$work/resume5.log"; fail "no warning that the checkpoint came from another build"; }
+grep -q "was written by ssdem-grav .*(git 0000000other)" "$run5/nbody/run_info.txt" || fail "run_info.txt does not record the other build"
+same "$ref" "$run5" nbody/done nbody/series.csv wall_s || fail "the continued N-body stage differs from the uninterrupted one"
+echo "ok: RESUME_ACROSS_BUILDS=1 continued across rebuilt tools, recorded the other build, same result"
 rm -rf "$work"

@@ -11,13 +11,14 @@
 #include <sstream>
 
 #include "common/atomic_file.hpp"
+#include "common/build_check.hpp"
 #include "common/finite.hpp"
 #include "common/log.hpp"
 #include "common/run_dir.hpp"
 #include "common/run_identity.hpp"
+#include "common/series_csv.hpp"
 #include "common/sorted_rows.hpp"
 #include "common/sphere_file.hpp"
-#include "common/series_csv.hpp"
 #include "common/status.hpp"
 #include "common/stop_signal.hpp"
 #include "ssdem/io.hpp"
@@ -137,6 +138,10 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       input_line = "input: every rank read all " + std::to_string(shape.spheres) + " spheres of the checkpoint (bonds)\n";
     }
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
+    if (const std::string note = common::other_build_note(restart); !note.empty()) {
+      if (comm.rank == 0) spdlog::warn("restart: {}", note);
+      info += note + "\n";
+    }
   }
   const SimConfig& cfg = sim->config();
   const std::int64_t first_step = sim->step_count();
