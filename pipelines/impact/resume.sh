@@ -10,7 +10,9 @@
 # if it is newer than every INPUT (the stage's Make prerequisites: binary, scene, settings stamp,
 # input files), i.e. only if the interrupted run was started with what the stage runs now; a
 # rebuilt tool or a changed setting (time.end and output times included, which a restart may
-# otherwise change) runs the stage from the start. The tool also refuses a checkpoint of another
+# otherwise change) runs the stage from the start. (With RESUME_ACROSS_BUILDS=1 the impact rules
+# pass the tools as order-only prerequisites, so they are not among the INPUTs: a rebuilt tool
+# then continues the checkpoint.) The tool also refuses a checkpoint of another
 # run (scene, settings or input file content differ) or a corrupt one, naming it; then, and only
 # then, CMD runs from the start. Nothing is deleted here: a run replaces OUTDIR's files when it
 # publishes, and a directory in use by another run is refused by the tool (exit 2).

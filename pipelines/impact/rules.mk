@@ -73,10 +73,14 @@ RESUME = $(IMPACT_DIR)/resume.sh
 # (a fix or an update in the middle of a long run) neither reruns a finished stage nor keeps an
 # interrupted one from continuing its checkpoint; the scene, the settings and the input files
 # still decide. The tool then logs, and ssdem-grav records in run_info.txt, that the checkpoint
-# came from another build: the run continues from the same state with the new build's
+# came from another build (another git SHA; builds of uncommitted changes on one commit are not
+# told apart): the run continues from the same state with the new build's
 # arithmetic, bit-identical to an uninterrupted run only where both builds compute the same.
 # Default 0: a rebuilt tool reruns its stage and those after it from the start.
 RESUME_ACROSS_BUILDS ?= 0
+ifeq ($(filter 0 1,$(RESUME_ACROSS_BUILDS)),)
+$(error RESUME_ACROSS_BUILDS=$(RESUME_ACROSS_BUILDS): valid values are 0 and 1)
+endif
 stage_tool = $(if $(filter 1,$(RESUME_ACROSS_BUILDS)),,$(1))
 stage_tool_order = $(if $(filter 1,$(RESUME_ACROSS_BUILDS)),$(1))
 # mpm-frag's checkpoint: <output.prefix>_checkpoint.h5 (both scene families use prefix "frag")

@@ -95,6 +95,7 @@ grep -q "resume.sh: continuing the interrupted run from $run/nbody/.staging-" "$
 s=$(restart_step "$run/nbody/run_info.txt"); e=$(last_step "$run/nbody/done" 'snap_[0-9]+\.h5')
 [ -n "$s" ] && [ "$s" -gt 0 ] && [ "$s" -lt "$e" ] || fail "ssdem-grav restarted at step '$s', not between 0 and its last step $e"
 compgen -G "$run/nbody/.staging-*" > /dev/null && fail "a staging directory is left after the resumed run published"
+grep -q "was written by" "$run/nbody/run_info.txt" && fail "a restart by the same build says the checkpoint came from another"
 mk "$ref" "$work/ref2.log" NBODY_TIME=300 NBODY_TIMES='[150.0, 299.0]'
 same "$ref" "$run" nbody/done nbody/series.csv wall_s || fail "the resumed N-body stage differs from the uninterrupted one"
 cmp <(/usr/bin/python3 -c 'import json,sys; j=json.load(open(sys.argv[1]))["final"]; j.pop("file"); print(j)' "$ref/analysis.json") \

@@ -8,8 +8,10 @@
 
 namespace common {
 
-/// Empty when `checkpoint`'s /provenance git_sha is this build's (or is not recorded); else one
-/// line naming both builds, for the log and the run information.
+/// Empty when `checkpoint`'s /provenance git_sha is this build's (or is not recorded, or cannot be
+/// read); else one line naming both builds, for the log and the run information. Builds are told
+/// apart by their git SHA only: two builds of different uncommitted changes on one commit both
+/// report "<sha>+dirty" and are not told apart.
 std::string other_build_note(const std::string& checkpoint);
 
 }  // namespace common

@@ -83,8 +83,8 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     spdlog::info("restarted from {} ({} ranks) at step {} (t = {:.6g} s)", restart,
                  rd.layout.cut.empty() ? std::string("one rank") : std::to_string(rd.layout.cut.size() - 1),
                  domp->step_count(), domp->time());
-    if (const std::string note = common::other_build_note(restart); !note.empty() && comm.rank == 0)
-      spdlog::warn("restart: {}", note);
+    if (comm.rank == 0)
+      if (const std::string note = common::other_build_note(restart); !note.empty()) spdlog::warn("restart: {}", note);
   } else {
     domp = std::make_unique<DomainSolver>(MPI_COMM_WORLD, st, part.second);
   }

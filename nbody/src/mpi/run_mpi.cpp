@@ -138,8 +138,8 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
       input_line = "input: every rank read all " + std::to_string(shape.spheres) + " spheres of the checkpoint (bonds)\n";
     }
     info += "restarted from " + restart + " at step " + std::to_string(sim->step_count()) + "\n";
-    if (const std::string note = common::other_build_note(restart); !note.empty()) {
-      if (comm.rank == 0) spdlog::warn("restart: {}", note);
+    if (const std::string note = comm.rank == 0 ? common::other_build_note(restart) : std::string(); !note.empty()) {
+      spdlog::warn("restart: {}", note);  // (rank 0 writes run_info.txt)
       info += note + "\n";
     }
   }
