@@ -34,7 +34,11 @@ int main(int argc, char** argv) {
 #ifdef SSDEM_MPI
     if (ranks > 1) return ssdem::mpi::run_ssdem_mpi(scene, prov, restart);
 #endif
+#ifdef SSDEM_MPI
+    return ssdem::run_ssdem(scene, prov, restart, false);  // the MPI build keeps the file order
+#else
     return ssdem::run_ssdem(scene, prov, restart);
+#endif
   });
 #ifdef SSDEM_MPI
   // a failure stops every rank (a rank left in a collective would wait for ever)

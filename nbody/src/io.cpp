@@ -161,6 +161,10 @@ bool write_state_group(long long file, const SimState& st, const StateHeader& h,
     ok = h5::write_dataset_rows(g, "level", lv.data(), n, 1, "1", sph) && ok;
     ok = h5::write_dataset_rows(g, "tau_prev", st.tau_prev.data(), n, 1, "s", sph) && ok;
   }
+  if (!st.sphere_order.empty()) {  // a sorted run's storage order (sphere_order.hpp)
+    const std::vector<std::uint64_t> rows(st.sphere_order.begin(), st.sphere_order.end());
+    ok = h5::write_dataset_rows(g, "sphere_order", rows.data(), n, 1, "1", sph) && ok;
+  }
   h5::Handle hg = h5::create_group(g, "history");
   const std::size_t P = st.history.size();
   std::vector<std::uint64_t> ia(P), ib(P);
@@ -246,6 +250,14 @@ SimState read_state(const std::string& path, double* dt, int* gravity_every, dou
         if (l < 0 || l > 30) throw common::InputError(path + ": /ssdem_state/level must be in [0, 30]");
       st.level.assign(lv.begin(), lv.end());
       st.tau_prev = doubles("/ssdem_state/tau_prev", 1);
+    }
+    if (!rows && h5::exists(f, "/ssdem_state/sphere_order")) {  // a sorted run's (sphere_order.hpp)
+      const std::vector<std::uint64_t> o = h5::read_u64(f, "/ssdem_state/sphere_order", -1, 1, path);
+      st.sphere_order.resize(o.size());
+      for (std::size_t k = 0; k < o.size(); ++k) {
+        if (o[k] > 0xffffffffULL) throw common::InputError(path + ": /ssdem_state/sphere_order holds a row beyond 2^32");
+        st.sphere_order[k] = static_cast<std::uint32_t>(o[k]);
+      }
     }
     const char* kIdA = "/ssdem_state/history/id_a";
     const long long P = rows ? static_cast<long long>(h5::rows(f, kIdA, path)) : -1;

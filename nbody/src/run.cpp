@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -22,6 +23,7 @@
 #include "common/stop_signal.hpp"
 #include "ssdem/io.hpp"
 #include "ssdem/scene_setup.hpp"
+#include "ssdem/sphere_order.hpp"
 
 namespace ssdem {
 namespace detail {
@@ -216,10 +218,15 @@ std::string bond_report(const Simulation& sim) {
 }
 }  // namespace
 
-int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
-  // Identity of this run, recorded in its checkpoints: --restart refuses another run's. Keys a
-  // restart may change: time.end and every output.* key.
-  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file", "initial.ss"});
+namespace detail {
+common::RunIdentity run_identity(const common::Scene& sc) {
+  return common::run_identity(sc, {"time.end", "output.", "run.sort_every"}, {"initial.file", "initial.ss"});
+}
+}  // namespace detail
+
+int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std::string& restart, bool sort) {
+  const common::RunIdentity ident = detail::run_identity(sc);
+  const std::int64_t sort_every = sort ? sc.integer("run.sort_every") : 0;
   // The run locks output.directory and writes into a staging directory published when it
   // completes (common/run_dir.hpp); a restart continues in the staging directory of the
   // interrupted run whose checkpoint it reads, if the checkpoint lies in one.
@@ -231,10 +238,17 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   std::unique_ptr<Simulation> sim;
   std::string info;
   double energy0 = NAN;
+  SphereOrder order;  // file row of each stored sphere (sphere_order.hpp)
   if (restart.empty()) {
     BondSet file_bonds;
     Spheres sp = initial_spheres(sc, &file_bonds);
     const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
+    order = SphereOrder(sp.size());
+    if (sort_every > 0) {
+      const std::vector<std::uint32_t> perm = morton_order(sp.x);
+      permute_spheres(sp, perm);
+      order.renumber(perm);
+    }
     sim = std::make_unique<Simulation>(std::move(sp), cfg);
   } else {
     double dt0 = 0, kn0 = 0;
@@ -279,6 +293,13 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     if (!cfg.adaptive_gravity) cfg.gravity_every = every0;
     st.gravity_block = every0;
     energy0 = st.energy0;
+    // the storage order the checkpoint's run had (file order if it recorded none; the MPI build
+    // continues in file order)
+    if (sort) order = SphereOrder::from_file(st, restart);
+    else {
+      st.sphere_order.clear();
+      order = SphereOrder(st.sp.size());
+    }
     if (std::isnan(energy0))
       spdlog::warn("restart: {} records no initial energy (older version); the energy error is reported "
                    "from the restart on", restart);
@@ -289,7 +310,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       info += note + "\n";
     }
   }
-  const SimConfig& cfg = sim->config();
+  const SimConfig cfg = sim->config();  // a copy: a renumbering replaces sim
   std::string run_info;
   {
     std::ostringstream os;
@@ -302,6 +323,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
        << (cfg.multirate ? "multi-rate (levels of 2^l dt, per-pair steps tau_c / " +
                                std::to_string(cfg.pair_steps_per_contact) + ")"
                          : std::string("single rate"))
+       << "\nsphere order in memory: "
+       << (sort_every > 0 ? "Morton curve, renumbered every " + std::to_string(sort_every) + " base steps"
+           : sort         ? std::string("file order (run.sort_every = 0)")
+                          : std::string("file order (the MPI build keeps it at every rank count)"))
        << "\n";
     run_info = os.str();
     common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info);
@@ -320,7 +345,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   // numerical failure (after saving its state) or on a signal (after its checkpoint); a run that
   // fails otherwise leaves an earlier series.csv as it was. A restart continues the series of
   // the run its checkpoint came from, up to the checkpoint's step.
-  const BondSystem* bonds = sim->bond_system();  // null without bonds
+  const BondSystem* bonds = sim->bond_system();  // null without bonds (renewed by a renumbering)
   common::SeriesFile series_file(series_path, series_format(bonds != nullptr),
                                  restart.empty() ? std::nullopt : std::optional(sim->step_count()));
 
@@ -355,7 +380,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     }
   };
   auto checkpoint = [&]() {
-    SimState st = sim->state();
+    SimState st = order.to_file(sim->state());
     st.energy0 = E0;
     write_checkpoint(ckpt_path, st, cfg.dt, st.gravity_block, prov, cfg.contact.kn, ident.text());
     spdlog::info("checkpoint at step {} -> {}", sim->step_count(), ckpt_path);
@@ -368,8 +393,26 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
 
   if (restart.empty()) {
     write_row();
-    write_snapshot(snap_name(dir, 0), sim->spheres(), sim->time(), 0, prov, bonds ? &bonds->bonds() : nullptr);
+    write_snapshot(snap_name(dir, 0), order.to_file(sim->spheres()), sim->time(), 0, prov,
+                   bonds ? &bonds->bonds() : nullptr);
   }
+  // Renumbering (sphere_order.hpp) at the first block boundary from next_sort on: a restart from
+  // the renumbered state, before the boundary's checkpoint (which then records the new order).
+  std::int64_t next_sort = sort_every > 0 ? (sim->step_count() / sort_every + 1) * sort_every : 0;
+  std::int64_t sorts = 0;
+  auto renumber = [&]() {
+    const auto t0 = std::chrono::steady_clock::now();
+    SimState st = sim->state();
+    const std::vector<std::uint32_t> perm = morton_order(st.sp.x);
+    permute_state(st, perm);
+    order.renumber(perm);
+    auto next = std::make_unique<Simulation>(std::move(st), sim->config());
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    next->continue_counters(*sim, wall);
+    sim = std::move(next);
+    bonds = sim->bond_system();
+    ++sorts;
+  };
   double last_ckpt_wall = progress.elapsed();
   std::int64_t next_row = (sim->step_count() / series_every + 1) * series_every;
   std::int64_t next_ckpt = ckpt_every > 0 ? (sim->step_count() / ckpt_every + 1) * ckpt_every : 0;
@@ -395,7 +438,12 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
         ++next_time;
       }
       if (snap || s >= n_end)
-        write_snapshot(snap_name(dir, s), sim->spheres(), sim->time(), s, prov, bonds ? &bonds->bonds() : nullptr);
+        write_snapshot(snap_name(dir, s), order.to_file(sim->spheres()), sim->time(), s, prov,
+                       bonds ? &bonds->bonds() : nullptr);
+      if (sort_every > 0 && s >= next_sort && s < n_end) {
+        renumber();
+        next_sort = (s / sort_every + 1) * sort_every;
+      }
       const int sig = stop.pending();
       if (sig != 0) {
         checkpoint();
@@ -414,12 +462,12 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   } catch (common::NumericalError& e) {
     const std::string failed = (std::filesystem::path(dir) / "failed_state.h5").string();
     if (sim->last_good()) {
-      SimState good = *sim->last_good();
+      SimState good = order.to_file(*sim->last_good());
       good.energy0 = E0;  // a restart from it reports its energy error against the run's E_0
       write_checkpoint(failed, good, cfg.dt, good.gravity_block, prov, cfg.contact.kn, ident.text());
       spdlog::error("{}; last good state (step {}) saved to {}", e.what(), good.step, failed);
     } else {
-      write_snapshot(failed, sim->spheres(), sim->time(), sim->step_count(), prov);
+      write_snapshot(failed, order.to_file(sim->spheres()), sim->time(), sim->step_count(), prov);
       spdlog::error("{}; failing state saved to {}", e.what(), failed);
     }
     e.set_saved_state(failed);
@@ -443,6 +491,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
               std::to_string(cs->test_count()) + " re-insertion tests; " +
               std::to_string(cs->pair_count()) + " pairs listed at the end\n";
     if (bonds) tail += bond_report(*sim) + "\n";
+    if (sort_every > 0) tail += "sphere order: " + std::to_string(sorts) + " renumberings after the start\n";
     tail += "thread teams: " + sim->team_tuner().report() + "\n";
     if (!tail.empty()) {
       spdlog::info("{}", tail.substr(0, tail.size() - 1));

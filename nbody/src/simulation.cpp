@@ -327,6 +327,18 @@ Diagnostics Simulation::diagnostics() {
   return d;
 }
 
+void Simulation::continue_counters(const Simulation& b, double extra_neighbours_s) {
+  times_ = b.times_;
+  times_.neighbours += extra_neighbours_s;
+  cadence_ = b.cadence_;
+  lstats_ = b.lstats_;
+  cstats_ = b.cstats_;
+  end_step_ = b.end_step_;
+  cpu_timing_ = b.cpu_timing_;
+  if (contacts_ && b.contacts_) contacts_->continue_counters(*b.contacts_);
+  set_keep_last_good(b.keep_every_);
+}
+
 SimState Simulation::state() const {
   SimState s;
   s.sp = sp_;

@@ -227,6 +227,15 @@ class ContactSystem {
   std::size_t reinsert_count() const { return reinserts_; }
   /// Re-insertion tests made, one per sphere tested per update (n per update without schedule).
   std::size_t test_count() const { return tests_; }
+  /// Adds the counters above (and margin_count) of `before`, the contact system this one
+  /// replaced (a renumbering of the spheres, sphere_order.hpp), so that a run reports its totals.
+  void continue_counters(const ContactSystem& before) {
+    rebuilds_ += before.rebuilds_;
+    local_updates_ += before.local_updates_;
+    reinserts_ += before.reinserts_;
+    tests_ += before.tests_;
+    promotions_ += before.promotions_;
+  }
   /// Bytes held per sphere by the contact system (pair list, history, CSR, cell grids), current sizes.
   double bytes_per_sphere(std::size_t n) const;
 

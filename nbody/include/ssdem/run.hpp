@@ -13,6 +13,7 @@
 #include <cstdint>
 
 #include "common/provenance.hpp"
+#include "common/run_identity.hpp"
 #include "common/schema.hpp"
 #include "common/series_csv.hpp"
 #include "ssdem/simulation.hpp"
@@ -21,10 +22,17 @@ namespace ssdem {
 
 /// Run a scene; `restart` = checkpoint file to continue from ("" = fresh start).
 /// Returns the process exit code (0, or 128+signal when interrupted).
-int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const std::string& restart);
+/// `sort`: renumber the spheres in memory as run.sort_every asks (sphere_order.hpp); the MPI build
+/// passes false at every rank count, so that one rank and N ranks give the same bits.
+int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const std::string& restart,
+              bool sort = true);
 
 /// Shared with the MPI driver (mpi/run_mpi.hpp), so both write the same files.
 namespace detail {
+/// Identity of a run, recorded in its checkpoints: --restart refuses another run's. Keys a restart
+/// may change: time.end, every output.* key and run.sort_every (the order in memory: round-off
+/// only; a checkpoint records it).
+common::RunIdentity run_identity(const common::Scene& scene);
 bool is_output(const std::string& name);                              ///< a file a run writes
 std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
 std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1

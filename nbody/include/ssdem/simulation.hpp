@@ -112,6 +112,10 @@ struct SimState {
   std::vector<std::uint8_t> level;  ///< multi-rate level per sphere (empty: single rate / all 0)
   std::vector<double> tau_prev;     ///< multi-rate: length of each sphere's previous step [s]
   double energy0 = NAN;  ///< the run's Diagnostics::accounted() at its first row [J] (NaN: unknown)
+  /// Checkpoints of a sorted run (sphere_order.hpp): the file row of each stored sphere, the
+  /// arrays above being in file order (empty: storage order is the file order). Simulation
+  /// neither reads nor sets it.
+  std::vector<std::uint32_t> sphere_order;
 };
 
 
@@ -218,6 +222,11 @@ class Simulation {
   const std::optional<SimState>& last_good() const { return last_good_; }
   /// Bytes per sphere of all arrays (spheres, integrator, contacts, tree).
   double bytes_per_sphere() const;
+  /// This simulation was started from `before`'s state(), renumbered (sphere_order.hpp): take
+  /// over its phase times (plus `extra_neighbours_s` of wall, the renumbering's), cadence, level
+  /// and contact counters, end step, CPU timing and last-good cadence, so that the run reports
+  /// its totals. The team rule (run.teams = auto) starts measuring again.
+  void continue_counters(const Simulation& before, double extra_neighbours_s);
 
  private:
   void setup();

@@ -35,8 +35,10 @@ using Vec3 = Eigen::Vector3d;
 /// input lacks it).
 inline constexpr common::SphereArray kSphereDissipated{"dissipated", "J", common::SphereScalar::Float64, 1};
 
-/// SoA sphere storage. Index order is stable for the whole run (never re-sorted), so the
-/// index is a valid handle between neighbour-list rebuilds; ids are the persistent key.
+/// SoA sphere storage. Within a Simulation the index order never changes, so the index is a
+/// valid handle between neighbour-list rebuilds; the serial driver renumbers the spheres in
+/// memory by restarting a Simulation from a permuted state (sphere_order.hpp), and files keep
+/// the input's order. Ids are the persistent key.
 struct Spheres {
   std::vector<std::uint64_t> id;
   std::vector<Vec3> x;   ///< position [m]

@@ -60,7 +60,7 @@ std::string block_line(const Comm& comm, std::size_t n) {
 int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const std::string& restart) {
   Comm comm;
   if (comm.rank != 0) spdlog::set_level(spdlog::level::err);
-  const common::RunIdentity ident = common::run_identity(sc, {"time.end", "output."}, {"initial.file", "initial.ss"});
+  const common::RunIdentity ident = ssdem::detail::run_identity(sc);
   const std::string out_dir = sc.string("output.directory");
   std::unique_ptr<common::RunDirectory> rd;
   on_root(comm, [&] {
@@ -106,6 +106,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
     SimState st = blocks ? read_checkpoint_rows(restart, sph, block_rows(comm, shape.history),
                                                 &dt0, &every0, &kn0, &ck_ident)
                          : read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
+    st.sphere_order.clear();  // the rows are in file order; MPI ranks keep it (sphere_order.hpp)
     if (!ck_ident.empty()) {
       const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
       const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
