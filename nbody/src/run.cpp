@@ -324,9 +324,10 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
                                std::to_string(cfg.pair_steps_per_contact) + ")"
                          : std::string("single rate"))
        << "\nsphere order in memory: "
-       << (sort_every > 0 ? "Morton curve, renumbered every " + std::to_string(sort_every) + " base steps"
-           : sort         ? std::string("file order (run.sort_every = 0)")
-                          : std::string("file order (the MPI build keeps it at every rank count)"))
+       << (sort_every > 0      ? "Morton curve, renumbered every " + std::to_string(sort_every) + " base steps"
+           : !order.identity() ? std::string("the checkpoint's order, not renumbered (run.sort_every = 0)")
+           : sort              ? std::string("file order (run.sort_every = 0)")
+                               : std::string("file order (the MPI build keeps it at every rank count)"))
        << "\n";
     run_info = os.str();
     common::write_text_atomic((std::filesystem::path(dir) / "run_info.txt").string(), run_info);
@@ -405,11 +406,13 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     SimState st = sim->state();
     const std::vector<std::uint32_t> perm = morton_order(st.sp.x);
     permute_state(st, perm);
-    order.renumber(perm);
+    // (the old simulation, its state and the new one are alive together here: ~2x the memory of
+    // the spheres' arrays for the length of the construction)
     auto next = std::make_unique<Simulation>(std::move(st), sim->config());
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     next->continue_counters(*sim, wall);
     sim = std::move(next);
+    order.renumber(perm);  // only once sim holds the permuted state
     bonds = sim->bond_system();
     ++sorts;
   };
@@ -440,7 +443,9 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       if (snap || s >= n_end)
         write_snapshot(snap_name(dir, s), order.to_file(sim->spheres()), sim->time(), s, prov,
                        bonds ? &bonds->bonds() : nullptr);
-      if (sort_every > 0 && s >= next_sort && s < n_end) {
+      // (at the last boundary too: the final checkpoint then holds the order that a run
+      // extending this one with --restart and a later time.end continues with)
+      if (sort_every > 0 && s >= next_sort) {
         renumber();
         next_sort = (s / sort_every + 1) * sort_every;
       }

@@ -10,7 +10,8 @@
 /// `run.sort_every` base steps (and at the start), as LAMMPS (atom_modify sort) and PKDGRAV do:
 ///   key(x) = interleave(q_x, q_y, q_z),  q_d = floor((x_d - lo_d) / L * (2^21 - 1)),
 /// with lo the corner and L the longest edge of the positions' bounding box; equal keys keep
-/// their previous order (stable), so the order is a function of the state alone.
+/// their previous order (stable), so the order is a function of the state and the previous order
+/// (which checkpoints record), never of the thread count.
 ///
 /// A renumbering is a restart from the permuted state (Simulation(SimState)): the physics is
 /// unchanged, but the per-sphere sums run over the partners in the new index order, so the
