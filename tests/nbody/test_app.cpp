@@ -25,48 +25,18 @@
 #include "ssdem/io.hpp"
 #include "ssdem/run.hpp"
 #include "ssdem/scene_setup.hpp"
+#include "app_support.hpp"
 
 using namespace ssdem;
 namespace fs = std::filesystem;
 
 namespace {
-const std::string kExe = SSDEM_GRAV_EXE;
+using ssdem_test::kExe;
+using ssdem_test::last_snapshot;
+using ssdem_test::run_cmd;
+using ssdem_test::tmpdir;
+using ssdem_test::write_scene;
 
-int run_cmd(const std::string& args) {
-  const std::string cmd = "OMP_NUM_THREADS=1 " + kExe + " --quiet " + args + " > /dev/null 2>&1";
-  const int rc = std::system(cmd.c_str());
-  return WIFEXITED(rc) ? WEXITSTATUS(rc) : -1;
-}
-std::string tmpdir(const std::string& name) {
-  const fs::path p = fs::temp_directory_path() / ("ssdem_test_" + name + "_" + std::to_string(getpid()));
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p.string();
-}
-const char* kScene = R"(
-[time]
-end = 30.0
-[initial]
-source = "lattice_pile"
-body_radius = 6.0
-sphere_radius = 1.0
-density = 2000.0
-jitter = 0.0
-angular_velocity = [0.0, 0.0, 2e-4]
-[gravity]
-every = 3
-[contact]
-preset = "gravel"
-[output]
-series_every = 30
-checkpoint_wall = 0.0
-progress_interval = 100.0
-)";
-std::string write_scene(const std::string& dir) {
-  const std::string p = dir + "/scene.toml";
-  std::ofstream(p) << kScene;
-  return p;
-}
 /// The staging directory a run that did not complete left in `dir` (the only one).
 std::string only_staging(const std::string& dir) {
   std::string found;
@@ -76,15 +46,6 @@ std::string only_staging(const std::string& dir) {
       found = e.path().string();
     }
   return found;
-}
-common::SphereSet last_snapshot(const std::string& dir) {
-  std::string best;
-  for (const auto& e : fs::directory_iterator(dir)) {
-    const std::string n = e.path().filename().string();
-    if (n.rfind("snap_", 0) == 0 && e.path().extension() == ".h5" && n > fs::path(best).filename().string())
-      best = e.path().string();
-  }
-  return common::read_sphere_set(best);
 }
 }  // namespace
 
