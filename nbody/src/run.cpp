@@ -245,7 +245,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     const SimConfig cfg = sim_config(sc, sp, &info, &file_bonds);
     order = SphereOrder(sp.size());
     if (sort_every > 0) {
-      const std::vector<std::uint32_t> perm = morton_order(sp.x);
+      const std::vector<std::uint32_t> perm = cell_order(sp);
       permute_spheres(sp, perm);
       order.renumber(perm);
     }
@@ -324,7 +324,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
                                std::to_string(cfg.pair_steps_per_contact) + ")"
                          : std::string("single rate"))
        << "\nsphere order in memory: "
-       << (sort_every > 0      ? "Morton curve, renumbered every " + std::to_string(sort_every) + " base steps"
+       << (sort_every > 0      ? "cells of 2 s_max (z, y, x), renumbered every " + std::to_string(sort_every) + " base steps"
            : !order.identity() ? std::string("the checkpoint's order, not renumbered (run.sort_every = 0)")
            : sort              ? std::string("file order (run.sort_every = 0)")
                                : std::string("file order (the MPI build keeps it at every rank count)"))
@@ -404,7 +404,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
   auto renumber = [&]() {
     const auto t0 = std::chrono::steady_clock::now();
     SimState st = sim->state();
-    const std::vector<std::uint32_t> perm = morton_order(st.sp.x);
+    const std::vector<std::uint32_t> perm = cell_order(st.sp);
     permute_state(st, perm);
     // (the old simulation, its state and the new one are alive together here: ~2x the memory of
     // the spheres' arrays for the length of the construction)

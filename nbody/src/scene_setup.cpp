@@ -188,7 +188,7 @@ common::Schema ssdem_schema() {
                "whichever of the three is fastest, measured while the run goes (team_tuner.hpp). "
                "Results are the same bits under every rule");
   s.add_int("run.sort_every", 16384, 0, 1LL << 40,
-            "renumber the spheres along a Morton curve of their positions at the start and at the first "
+            "renumber the spheres by cells of 2 x the largest radius (z, y, x order) at the start and at the first "
             "gravity-block boundary after every N base steps, so that touching spheres lie near in memory "
             "(sphere_order.hpp; the serial build; 0 = keep the file order). Changes the round-off, not the physics");
   // renamed keys, read with a warning for one release (same names as mpm-frag)

@@ -1,5 +1,5 @@
 /// @file sphere_order.cpp
-/// Morton renumbering of the spheres and the storage-to-file map (sphere_order.hpp).
+/// Renumbering of the spheres by cells and the storage-to-file map (sphere_order.hpp).
 #include "ssdem/sphere_order.hpp"
 
 #include <algorithm>
@@ -11,17 +11,6 @@
 
 namespace ssdem {
 namespace {
-/// The 21 low bits of v spread to every third bit (bit b to bit 3b).
-std::uint64_t spread3(std::uint64_t v) {
-  v &= 0x1fffffULL;
-  v = (v | (v << 32)) & 0x1f00000000ffffULL;
-  v = (v | (v << 16)) & 0x1f0000ff0000ffULL;
-  v = (v | (v << 8)) & 0x100f00f00f00f00fULL;
-  v = (v | (v << 4)) & 0x10c30c30c30c30c3ULL;
-  v = (v | (v << 2)) & 0x1249249249249249ULL;
-  return v;
-}
-
 template <class T>
 void gather(std::vector<T>& a, const std::vector<std::uint32_t>& perm, std::size_t width = 1) {
   if (a.empty()) return;
@@ -39,28 +28,30 @@ std::vector<std::uint32_t> inverse(const std::vector<std::uint32_t>& perm) {
 }
 }  // namespace
 
-std::vector<std::uint32_t> morton_order(const std::vector<Vec3>& x) {
+std::vector<std::uint32_t> cell_order(const std::vector<Vec3>& x, double cell) {
   const std::size_t n = x.size();
-  Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+  Vec3 lo = Vec3::Constant(INFINITY);
   for (const Vec3& p : x)
-    if (p.allFinite()) {
-      lo = lo.cwiseMin(p);
-      hi = hi.cwiseMax(p);
-    }
-  const double L = (hi - lo).maxCoeff();
-  const double scale = L > 0.0 && std::isfinite(L) ? (double((1u << 21) - 1)) / L : 0.0;
+    if (p.allFinite()) lo = lo.cwiseMin(p);
+  const double inv = cell > 0.0 && std::isfinite(cell) ? 1.0 / cell : 0.0;
+  constexpr double kMax = 2097151.0;  // 2^21 - 1 cells per axis: 63 bits of key
   std::vector<std::uint64_t> key(n);
   for (std::size_t i = 0; i < n; ++i) {
     std::uint64_t q[3] = {0, 0, 0};
     if (x[i].allFinite())
-      for (int d = 0; d < 3; ++d)
-        q[d] = static_cast<std::uint64_t>(std::clamp((x[i][d] - lo[d]) * scale, 0.0, double((1u << 21) - 1)));
-    key[i] = spread3(q[0]) | (spread3(q[1]) << 1) | (spread3(q[2]) << 2);
+      for (int d = 0; d < 3; ++d) q[d] = static_cast<std::uint64_t>(std::clamp((x[i][d] - lo[d]) * inv, 0.0, kMax));
+    key[i] = (q[2] << 42) | (q[1] << 21) | q[0];
   }
   std::vector<std::uint32_t> perm(n);
   std::iota(perm.begin(), perm.end(), 0u);
   std::stable_sort(perm.begin(), perm.end(), [&](std::uint32_t a, std::uint32_t b) { return key[a] < key[b]; });
   return perm;
+}
+
+std::vector<std::uint32_t> cell_order(const Spheres& sp) {
+  double smax = 0.0;
+  for (double s : sp.s) smax = std::max(smax, s);
+  return cell_order(sp.x, 2.0 * smax);
 }
 
 bool is_permutation_of(const std::vector<std::uint32_t>& perm, std::size_t n) {
