@@ -147,17 +147,33 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
   // (a block's opening kicks every sphere: items; at s0 > 0 the kicks of the opening spheres,
   // items, and a scan and the drift of all, a stream)
   const bool team = s0 == 0 ? use_team(n) : use_team(nopen) || use_team(n, Work::stream);
+  // the opening spheres each thread lists from its block (the calling thread's storage, kept)
+  thread_local std::vector<std::vector<std::uint32_t>> opening;
+  const auto slots = static_cast<std::size_t>(team ? omp_get_max_threads() : 1);
+  if (opening.size() < slots) opening.resize(slots);
+  std::vector<std::uint32_t>* lists = opening.data();
   in_team(team, [&] {
     // each thread its static block of spheres: kicks, then the drift of the same spheres
+    const int t = omp_get_thread_num(), T = omp_get_num_threads();
     std::size_t b, e;
-    static_block(n, omp_get_thread_num(), omp_get_num_threads(), b, e);
+    static_block(n, t, T, b, e);
     if (s0 == 0) {  // a block opens: every sphere opens (levels <= L)
       for (std::size_t i = b; i < e; ++i) open(i);
     } else {  // the spheres on levels l with 2^l | s0, listed without a branch per sphere
-      thread_local std::vector<std::uint32_t> opening;
-      opening.clear();
-      append_at_most(level, b, e, __builtin_ctzll(static_cast<std::uint64_t>(s0)), opening);
-      for (std::uint32_t i : opening) open(i);
+      std::vector<std::uint32_t>& mine = lists[t];
+      mine.clear();
+      append_at_most(level, b, e, __builtin_ctzll(static_cast<std::uint64_t>(s0)), mine);
+      if (T > 1) {
+        // kicked by count, not by block: the opening spheres of a pile lie together in memory
+        // (the cell order), mostly in one block (the 2.42 km 375 m row at t = 2 400 s: one
+        // thread's kicks and drift took 2.4x the other's perf samples); a sphere drifts after its
+        // kick, so a barrier before the drift
+#pragma omp barrier
+        for_joined_share(lists, t, T, open);
+#pragma omp barrier
+      } else {
+        for (std::uint32_t i : mine) open(i);
+      }
     }
     // every sphere drifts, a ghost too (with its velocity as its owner last sent it): one
     // branch-free loop over the components (vectorised; the same product and sum per component

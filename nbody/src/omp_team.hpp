@@ -19,6 +19,8 @@
 #include <omp.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <vector>
 
 namespace ssdem {
 
@@ -75,6 +77,28 @@ inline void in_team(bool team, F&& f) {
 inline void static_block(std::size_t n, int t, int T, std::size_t& b, std::size_t& e) {
   b = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(T);
   e = n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
+}
+
+/// Thread `t` of `T`'s share of the items that the team's threads listed from their static blocks:
+/// f(item) for the items [m t / T, m (t + 1) / T) of lists[0], ..., lists[T - 1] joined (m items in
+/// all). Called by every thread of the team after a barrier (the lists complete); the caller
+/// places a barrier after it if other work needs its results. Where the listed items cluster in
+/// memory (the opening spheres of a pile, consecutive in the spheres' cell order), one thread's
+/// block holds most of them: shared by count, each thread gets its half whatever the layout.
+/// Each item is processed once, by one thread, so the results do not depend on who does it.
+template <class F>
+inline void for_joined_share(const std::vector<std::uint32_t>* lists, int t, int T, F&& f) {
+  std::size_t m = 0;
+  for (int k = 0; k < T; ++k) m += lists[k].size();
+  std::size_t b, e;
+  static_block(m, t, T, b, e);
+  std::size_t off = 0;  // index in the joined list of lists[k][0]
+  for (int k = 0; k < T && off < e; ++k) {
+    const std::size_t sz = lists[k].size();
+    const std::size_t lo = b > off ? b - off : 0, hi = e - off < sz ? e - off : sz;
+    for (std::size_t r = lo; r < hi; ++r) f(lists[k][r]);
+    off += sz;
+  }
 }
 
 /// f(lo, hi) on consecutive blocks covering [0, n): one block per thread of a team when

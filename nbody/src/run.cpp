@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -219,8 +220,22 @@ std::string bond_report(const Simulation& sim) {
 }  // namespace
 
 namespace detail {
+namespace {
+const std::vector<std::string> kRestartMayChange = {"time.end", "output.", "run.sort_every", "gravity.group"};
+}  // namespace
 common::RunIdentity run_identity(const common::Scene& sc) {
-  return common::run_identity(sc, {"time.end", "output.", "run.sort_every"}, {"initial.file", "initial.ss"});
+  return common::run_identity(sc, kRestartMayChange, {"initial.file", "initial.ss"});
+}
+common::RunIdentity checkpoint_identity(const std::string& text) {
+  common::RunIdentity id = common::RunIdentity::parse(text);
+  for (auto it = id.parts.begin(); it != id.parts.end();) {
+    const std::string& k = it->first;
+    const bool drop = std::any_of(kRestartMayChange.begin(), kRestartMayChange.end(), [&](const std::string& e) {
+      return e.back() == '.' ? k.rfind(e, 0) == 0 : k == e;
+    });
+    it = drop ? id.parts.erase(it) : std::next(it);
+  }
+  return id;
 }
 }  // namespace detail
 
@@ -259,7 +274,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
       spdlog::warn("restart: {} records no run identity (written by an older version); cannot check that it "
                    "belongs to this scene", restart);
     } else {
-      const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
+      const common::RunIdentity theirs = detail::checkpoint_identity(ck_ident);
       const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
       if (!diff.empty())
         throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +

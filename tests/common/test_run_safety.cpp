@@ -210,6 +210,16 @@ TEST(RunSafety, RestartRefusesTheCheckpointOfAnotherRun) {
   // A's own restart (a later end time) is accepted.
   const Result ok = grav("--quiet --scene " + scene + " --set time.end=40.0 --restart " + out + "/checkpoint.h5");
   EXPECT_EQ(ok.rc, 0) << ok.out;
+  // A cost setting, the tree's sink group size, may change on restart (a long run continues with
+  // a new default); the opening angle, which sets the force error, may not.
+  const Result group = grav("--quiet --scene " + scene + " --set time.end=45.0 --set gravity.group=16 --restart " +
+                            out + "/checkpoint.h5");
+  EXPECT_EQ(group.rc, 0) << group.out;
+  const Result theta = grav("--scene " + scene + " --set time.end=50.0 --set gravity.theta=0.5 --restart " + out +
+                            "/checkpoint.h5");
+  EXPECT_EQ(theta.rc, 2) << theta.out;
+  EXPECT_NE(theta.out.find("they differ in gravity.theta: this run 0.5, checkpoint 0.25"), std::string::npos)
+      << theta.out;
 }
 
 // ---- 3. one complete run per directory ------------------------------------------------------

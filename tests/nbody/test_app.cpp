@@ -184,6 +184,15 @@ TEST(App, SigtermWritesCheckpointAndRestartMatches) {
   fs::remove_all(d);
 }
 
+// A checkpoint written while gravity.group was part of the run identity (before 2026-12-06, with
+// the old default 64) matches a run that leaves it out; every other key still counts.
+TEST(App, CheckpointIdentityLeavesOutTheKeysARestartMayChange) {
+  const common::RunIdentity old = detail::checkpoint_identity(
+      "gravity.group = 64\ngravity.theta = 0.25\noutput.directory = \"o\"\nrun.sort_every = 4\ntime.end = 3.0\n");
+  ASSERT_EQ(old.parts.size(), 1u);
+  EXPECT_EQ(old.parts.at("gravity.theta"), "0.25");
+}
+
 TEST(App, RefusesUnresolvableDtWithExit2) {
   const std::string d = tmpdir("dt");
   const std::string scene = write_scene(d);

@@ -225,3 +225,33 @@ TEST(OmpTeam, TeamRulesSwitchedInMidRunEqualTheSerialBits) {
   EXPECT_EQ(team_thresholds().items, 64u);
   EXPECT_EQ(team_thresholds().stream, 256u);
 }
+
+// for_joined_share: every listed item once, each thread's share within one of an equal split,
+// whatever the lists' sizes (all items in one thread's list: the pile in one block; empty lists;
+// fewer items than threads).
+TEST(OmpTeam, JoinedListsAreSharedByCount) {
+  const int T = 3;
+  for (const std::vector<std::size_t>& sizes : {std::vector<std::size_t>{0, 1000, 0}, std::vector<std::size_t>{7, 0, 2},
+                                               std::vector<std::size_t>{1, 0, 0}, std::vector<std::size_t>{0, 0, 0},
+                                               std::vector<std::size_t>{333, 334, 335}}) {
+    std::vector<std::vector<std::uint32_t>> lists(T);
+    std::uint32_t next = 0;
+    for (int k = 0; k < T; ++k)
+      for (std::size_t r = 0; r < sizes[static_cast<std::size_t>(k)]; ++r) lists[static_cast<std::size_t>(k)].push_back(next++);
+    std::vector<int> hits(next, 0), owner(next, -1);
+    std::vector<std::size_t> share(T, 0);
+    for (int t = 0; t < T; ++t)  // (each thread's share is a function of t alone: call them in turn)
+      for_joined_share(lists.data(), t, T, [&](std::uint32_t i) {
+        ++hits[i];
+        owner[i] = t;
+        ++share[static_cast<std::size_t>(t)];
+      });
+    for (int h : hits) EXPECT_EQ(h, 1);
+    const std::size_t m = next;
+    for (int t = 0; t < T; ++t) {
+      EXPECT_GE(share[static_cast<std::size_t>(t)], m / T);
+      EXPECT_LE(share[static_cast<std::size_t>(t)], (m + T - 1) / T);
+    }
+    for (std::size_t i = 1; i < m; ++i) EXPECT_LE(owner[i - 1], owner[i]);  // consecutive shares
+  }
+}

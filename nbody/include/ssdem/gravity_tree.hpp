@@ -24,7 +24,7 @@ struct GravityParams {
   double G = 6.674e-11;  ///< [m^3 kg^-1 s^-2]
   double theta = 0.25;   ///< opening angle: rms relative force error <= 1e-3 on piles (test_nbody_gravity_tree)
   int bucket = 8;        ///< max particles per leaf
-  int group = 64;        ///< max sinks per group sharing one interaction list (>= bucket)
+  int group = 256;       ///< max sinks per group sharing one interaction list (>= bucket; nbody/README.md)
   int max_depth = 40;    ///< subdivision cap (coincident points)
 };
 

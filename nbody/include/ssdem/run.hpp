@@ -30,9 +30,13 @@ int run_ssdem(const common::Scene& scene, const common::Provenance& prov, const 
 /// Shared with the MPI driver (mpi/run_mpi.hpp), so both write the same files.
 namespace detail {
 /// Identity of a run, recorded in its checkpoints: --restart refuses another run's. Keys a restart
-/// may change: time.end, every output.* key and run.sort_every (the order in memory: round-off
-/// only; a checkpoint records it).
+/// may change: time.end, every output.* key, run.sort_every (the order in memory: round-off
+/// only; a checkpoint records it) and gravity.group (the sink group size: a cost setting, forces
+/// change within the tree's error; its default went from 64 to 256 on 2026-12-06).
 common::RunIdentity run_identity(const common::Scene& scene);
+/// A checkpoint's recorded identity (its text) without the keys run_identity leaves out, so that
+/// checkpoints written while such a key was still recorded continue.
+common::RunIdentity checkpoint_identity(const std::string& text);
 bool is_output(const std::string& name);                              ///< a file a run writes
 std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
 std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1

@@ -108,7 +108,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
                          : read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
     st.sphere_order.clear();  // the rows are in file order; MPI ranks keep it (sphere_order.hpp)
     if (!ck_ident.empty()) {
-      const common::RunIdentity theirs = common::RunIdentity::parse(ck_ident);
+      const common::RunIdentity theirs = ssdem::detail::checkpoint_identity(ck_ident);
       const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
       if (!diff.empty())
         throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
