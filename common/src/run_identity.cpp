@@ -105,6 +105,13 @@ std::string RunIdentity::differences(const RunIdentity& a, const std::string& la
   return out;
 }
 
+RunIdentity RunIdentity::without(const std::vector<std::string>& excluded) const {
+  RunIdentity id;
+  for (const auto& [k, v] : parts)
+    if (!excluded_key(k, excluded)) id.parts.emplace(k, v);
+  return id;
+}
+
 RunIdentity run_identity(const Scene& sc, const std::vector<std::string>& excluded,
                          const std::vector<std::string>& file_keys) {
   toml::table t;

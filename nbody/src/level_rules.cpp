@@ -118,7 +118,8 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
     const View a = view;
     // each thread its static block of spheres (consecutive, ascending with the thread number, so
     // the blocks' synchronised lists joined in thread order are ascending); each fills a vector of
-    // its own, its slot's storage swapped in and out, so no two threads write one cache line
+    // its own, its slot's storage swapped in and out, so no two threads write one cache line while
+    // listing (the shares below may write neighbouring level bytes at their boundaries)
     const int t = omp_get_thread_num(), T = omp_get_num_threads();
     std::size_t b, e;
     static_block(n, t, T, b, e);

@@ -5,7 +5,6 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
-#include <iterator>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -227,15 +226,27 @@ common::RunIdentity run_identity(const common::Scene& sc) {
   return common::run_identity(sc, kRestartMayChange, {"initial.file", "initial.ss"});
 }
 common::RunIdentity checkpoint_identity(const std::string& text) {
-  common::RunIdentity id = common::RunIdentity::parse(text);
-  for (auto it = id.parts.begin(); it != id.parts.end();) {
-    const std::string& k = it->first;
-    const bool drop = std::any_of(kRestartMayChange.begin(), kRestartMayChange.end(), [&](const std::string& e) {
-      return e.back() == '.' ? k.rfind(e, 0) == 0 : k == e;
-    });
-    it = drop ? id.parts.erase(it) : std::next(it);
+  return common::RunIdentity::parse(text).without(kRestartMayChange);
+}
+void check_restart_identity(const common::Scene& sc, const common::RunIdentity& ident, const std::string& restart,
+                            const std::string& recorded, bool log) {
+  if (recorded.empty()) {
+    if (log)
+      spdlog::warn("restart: {} records no run identity (written by an older version); cannot check that it "
+                   "belongs to this scene", restart);
+    return;
   }
-  return id;
+  const common::RunIdentity all = common::RunIdentity::parse(recorded);
+  const std::string diff = common::RunIdentity::differences(ident, "this run", all.without(kRestartMayChange), "checkpoint");
+  if (!diff.empty())
+    throw common::InputError(restart + ": checkpoint of another run (run identity " + all.digest() +
+                             ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
+  const auto group = all.parts.find("gravity.group");
+  const std::string now = std::to_string(sc.integer("gravity.group"));
+  if (log && group != all.parts.end() && group->second != now)
+    spdlog::warn("restart: {} ran with gravity.group = {}, this run uses {} (the tree's sink groups: forces "
+                 "change within the tree's error, so the continuation is not bit-identical to an "
+                 "uninterrupted run)", restart, group->second, now);
 }
 }  // namespace detail
 
@@ -270,16 +281,7 @@ int run_ssdem(const common::Scene& sc, const common::Provenance& prov, const std
     int every0 = 0;
     std::string ck_ident;
     SimState st = read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
-    if (ck_ident.empty()) {
-      spdlog::warn("restart: {} records no run identity (written by an older version); cannot check that it "
-                   "belongs to this scene", restart);
-    } else {
-      const common::RunIdentity theirs = detail::checkpoint_identity(ck_ident);
-      const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
-      if (!diff.empty())
-        throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
-                                 ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
-    }
+    detail::check_restart_identity(sc, ident, restart, ck_ident, true);
     if (common::RunDirectory::staging_of(out_dir, restart).empty()) {
       // continuing a published run: its series and snapshots up to the checkpoint become part of this one
       rd.carry("series.csv");

@@ -193,6 +193,44 @@ TEST(App, CheckpointIdentityLeavesOutTheKeysARestartMayChange) {
   EXPECT_EQ(old.parts.at("gravity.theta"), "0.25");
 }
 
+// A checkpoint that recorded gravity.group in its identity (as before 2026-12-06, with the old
+// default 64) continues under a run with the new default, with a warning naming both values;
+// with the recorded value set again it continues silently; another theta is still refused.
+TEST(App, RestartFromACheckpointThatRecordedTheGroupContinues) {
+  const std::string d = tmpdir("group");
+  const std::string scene = write_scene(d);
+  ASSERT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/part\\\" --set time.end=13.0"), 0);
+  double dt = 0, kn = 0;
+  int every = 0;
+  std::string ident;
+  const SimState st = read_checkpoint(d + "/part/checkpoint.h5", &dt, &every, &kn, &ident);
+  ASSERT_FALSE(ident.empty());
+  ASSERT_EQ(ident.find("gravity.group"), std::string::npos);
+  write_checkpoint(d + "/old.h5", st, dt, every, common::Provenance{"ssdem-grav", "", "", "", ""}, kn,
+                   ident + "gravity.group = 64\n");
+  auto restart = [&](const std::string& sets, const std::string& out) {
+    const std::string log = d + "/" + out + ".log";
+    const std::string cmd = "OMP_NUM_THREADS=1 " + kExe + " --quiet --scene " + scene + " --set output.directory=\\\"" +
+                            d + "/" + out + "\\\" --set time.end=14.0" + sets + " --restart " + d + "/old.h5 > " + log +
+                            " 2>&1";
+    const int rc = std::system(cmd.c_str());
+    std::ifstream in(log);
+    std::stringstream text;
+    text << in.rdbuf();
+    return std::make_pair(WIFEXITED(rc) ? WEXITSTATUS(rc) : -1, text.str());
+  };
+  const auto [rc, out] = restart("", "a");
+  EXPECT_EQ(rc, 0) << out;
+  EXPECT_NE(out.find("ran with gravity.group = 64, this run uses 256"), std::string::npos) << out;
+  const auto [rc64, out64] = restart(" --set gravity.group=64", "b");
+  EXPECT_EQ(rc64, 0) << out64;
+  EXPECT_EQ(out64.find("gravity.group"), std::string::npos) << out64;
+  const auto [rct, outt] = restart(" --set gravity.theta=0.5", "c");
+  EXPECT_EQ(rct, 2) << outt;
+  EXPECT_NE(outt.find("they differ in gravity.theta: this run 0.5, checkpoint 0.25"), std::string::npos) << outt;
+  fs::remove_all(d);
+}
+
 TEST(App, RefusesUnresolvableDtWithExit2) {
   const std::string d = tmpdir("dt");
   const std::string scene = write_scene(d);

@@ -26,6 +26,9 @@ struct RunIdentity {
   /// FNV-1a 64-bit hash of text(), 16 hex digits.
   std::string digest() const;
   static RunIdentity parse(const std::string& text);
+  /// This identity without the keys run_identity() leaves out for `excluded` (same rule), e.g. a
+  /// checkpoint's recorded identity from before a key became one that a restart may change.
+  RunIdentity without(const std::vector<std::string>& excluded) const;
   /// "" when equal; else one "; "-separated entry per differing key:
   /// "<key>: <label_a> <value a>, <label_b> <value b>" ("(absent)" for a missing key).
   static std::string differences(const RunIdentity& a, const std::string& label_a, const RunIdentity& b,

@@ -37,6 +37,12 @@ common::RunIdentity run_identity(const common::Scene& scene);
 /// A checkpoint's recorded identity (its text) without the keys run_identity leaves out, so that
 /// checkpoints written while such a key was still recorded continue.
 common::RunIdentity checkpoint_identity(const std::string& text);
+/// --restart's check of the checkpoint `restart` (recorded identity `recorded`, "" = none) against
+/// this run's `ident`: common::InputError naming the differing keys (and the checkpoint's recorded
+/// digest) for another run's; with `log`, a warning for a checkpoint without an identity and for
+/// one whose recorded gravity.group differs from this run's (it continues, not bit-identically).
+void check_restart_identity(const common::Scene& scene, const common::RunIdentity& ident, const std::string& restart,
+                            const std::string& recorded, bool log);
 bool is_output(const std::string& name);                              ///< a file a run writes
 std::string snap_name(const std::string& dir, std::int64_t step);     ///< <dir>/snap_<step>.h5
 std::int64_t snap_step(const std::string& name);                      ///< step of a snapshot name, or -1

@@ -107,13 +107,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
                                                 &dt0, &every0, &kn0, &ck_ident)
                          : read_checkpoint(restart, &dt0, &every0, &kn0, &ck_ident);
     st.sphere_order.clear();  // the rows are in file order; MPI ranks keep it (sphere_order.hpp)
-    if (!ck_ident.empty()) {
-      const common::RunIdentity theirs = ssdem::detail::checkpoint_identity(ck_ident);
-      const std::string diff = common::RunIdentity::differences(ident, "this run", theirs, "checkpoint");
-      if (!diff.empty())
-        throw common::InputError(restart + ": checkpoint of another run (run identity " + theirs.digest() +
-                                 ") than this scene's (run identity " + ident.digest() + "); they differ in " + diff);
-    }
+    ssdem::detail::check_restart_identity(sc, ident, restart, ck_ident, comm.rank == 0);
     on_root(comm, [&] {
       if (!common::RunDirectory::staging_of(out_dir, restart).empty()) return;
       rd->carry("series.csv");  // continuing a published run: its series and snapshots up to the checkpoint
