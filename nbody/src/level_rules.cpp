@@ -114,6 +114,9 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
   const auto slots = static_cast<std::size_t>(team ? omp_get_max_threads() : 1);
   if (synced_by_thread_.size() < slots) synced_by_thread_.resize(slots);
   for (auto& v : synced_by_thread_) v.clear();
+  // shared by count only where the blocks were skewed at the last call with this tz (threshold in
+  // omp_team.hpp); the bits are the same
+  const bool share = synced_skew_[tzi] >= team_thresholds().level_skew;
   in_team(team, [&] {
     const View a = view;
     // each thread its static block of spheres (consecutive, ascending with the thread number, so
@@ -133,13 +136,13 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
     append_at_most(a.lev, b, e, a.tz, mine);
     slot.swap(mine);
     // Each synchronised sphere's new level from its pairs' levels (it writes only its own level
-    // and flag): shared by count among the threads, not by block, since the synchronised spheres
-    // of a pile lie together in memory (the 2.42 km 375 m row at t = 2 400 s: one thread took
-    // 2.8x the other's perf samples here)
-    if (T > 1) {
+    // and flag): shared by count among the threads where the blocks were skewed, since the
+    // synchronised spheres of a pile lie together in memory (the 2.42 km 375 m row at t = 2 400 s:
+    // one thread took 2.8x the other's perf samples here)
+    if (T > 1 && share) {
 #pragma omp barrier
     }
-    for_joined_share(synced_by_thread_.data(), t, T, [&](const std::uint32_t i) {
+    auto level_of = [&](const std::uint32_t i) {
       if (a.mask && !a.mask[i]) return;
       int c = a.top;
       if (a.ct && c > 0) {
@@ -155,8 +158,13 @@ void LevelRules::assign(const Spheres& sp, const ContactSystem* cs, int tz, int 
         a.lev[i] = static_cast<std::uint8_t>(c);
         a.flag[i] = 1;
       }
-    });
+    };
+    if (T > 1 && share)
+      for_joined_share(synced_by_thread_.data(), t, T, level_of);
+    else
+      for (const std::uint32_t i : slot) level_of(i);
   });
+  if (team) synced_skew_[tzi] = list_skew(synced_by_thread_.data(), static_cast<int>(synced_by_thread_.size()));
   synced_.clear();
   for (const auto& v : synced_by_thread_) synced_.insert(synced_.end(), v.begin(), v.end());
   synced_at_tz_[tzi] = synced_.size();

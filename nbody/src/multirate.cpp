@@ -147,11 +147,20 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
   // (a block's opening kicks every sphere: items; at s0 > 0 the kicks of the opening spheres,
   // items, and a scan and the drift of all, a stream)
   const bool team = s0 == 0 ? use_team(n) : use_team(nopen) || use_team(n, Work::stream);
-  // the opening spheres each thread lists from its block (the calling thread's storage, kept)
+  // the opening spheres each thread lists from its block (the calling thread's storage, kept),
+  // and per coarsest opening level how unevenly the blocks held them at its last step
   thread_local std::vector<std::vector<std::uint32_t>> opening;
+  thread_local std::size_t skew[64] = {};
   const auto slots = static_cast<std::size_t>(team ? omp_get_max_threads() : 1);
   if (opening.size() < slots) opening.resize(slots);
+  for (auto& l : opening) l.clear();
   std::vector<std::uint32_t>* lists = opening.data();
+  const int tzo = s0 == 0 ? 0 : __builtin_ctzll(static_cast<std::uint64_t>(s0));
+  // Shared by count only where the blocks were skewed (the 375 m row: ~30 000 opening spheres in
+  // one block); where they were even (the 1 km remnant fills both blocks) the two barriers cost
+  // more than they save (nbody/README.md: integrate 5.81 -> 6.31 s); threshold in omp_team.hpp.
+  // Who kicks a sphere never changes its bits.
+  const bool share = skew[tzo] >= team_thresholds().kick_skew;
   in_team(team, [&] {
     // each thread its static block of spheres: kicks, then the drift of the same spheres
     const int t = omp_get_thread_num(), T = omp_get_num_threads();
@@ -160,10 +169,13 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     if (s0 == 0) {  // a block opens: every sphere opens (levels <= L)
       for (std::size_t i = b; i < e; ++i) open(i);
     } else {  // the spheres on levels l with 2^l | s0, listed without a branch per sphere
-      std::vector<std::uint32_t>& mine = lists[t];
-      mine.clear();
-      append_at_most(level, b, e, __builtin_ctzll(static_cast<std::uint64_t>(s0)), mine);
-      if (T > 1) {
+      // (filled in a local vector, its slot's storage swapped in and out: the slots' headers
+      // share a cache line, which two threads' push_backs would pass back and forth)
+      std::vector<std::uint32_t> mine;
+      mine.swap(lists[t]);
+      append_at_most(level, b, e, tzo, mine);
+      lists[t].swap(mine);
+      if (T > 1 && share) {
         // kicked by count, not by block: the opening spheres of a pile lie together in memory
         // (the cell order), mostly in one block (the 2.42 km 375 m row at t = 2 400 s: one
         // thread's kicks and drift took 2.4x the other's perf samples); a sphere drifts after its
@@ -172,7 +184,7 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
         for_joined_share(lists, t, T, open);
 #pragma omp barrier
       } else {
-        for (std::uint32_t i : mine) open(i);
+        for (std::uint32_t i : lists[t]) open(i);
       }
     }
     // every sphere drifts, a ghost too (with its velocity as its owner last sent it): one
@@ -182,6 +194,7 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     const double* vf = v->data();
     for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
   });
+  if (s0 != 0 && team) skew[tzo] = list_skew(lists, static_cast<int>(slots));
 }
 
 void close_kicks(const KickArrays& k, const std::uint32_t* active, std::size_t na, std::int64_t step, double h,

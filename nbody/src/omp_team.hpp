@@ -36,6 +36,12 @@ namespace ssdem {
 struct TeamThresholds {
   std::size_t items = 2048;
   std::size_t stream = 16384;
+  /// Listed items shared by count (for_joined_share) only where the threads' static blocks held
+  /// them this unevenly at the last comparable call: the opening kicks (~4 ns each, two barriers)
+  /// and the level assignment (tens of ns each, one barrier); estimates from the barrier cost
+  /// (~2 us on the VMs here), not tuned. Tests set 0 (always shared).
+  std::size_t kick_skew = 4096;
+  std::size_t level_skew = 512;
 };
 inline TeamThresholds& team_thresholds() {
   static TeamThresholds t;
@@ -99,6 +105,16 @@ inline void for_joined_share(const std::vector<std::uint32_t>* lists, int t, int
     for (std::size_t r = lo; r < hi; ++r) f(lists[k][r]);
     off += sz;
   }
+}
+
+/// Largest minus smallest size of lists[0..T): how unevenly T static blocks held their listed items.
+inline std::size_t list_skew(const std::vector<std::uint32_t>* lists, int T) {
+  std::size_t lo = static_cast<std::size_t>(-1), hi = 0;
+  for (int k = 0; k < T; ++k) {
+    lo = lists[k].size() < lo ? lists[k].size() : lo;
+    hi = lists[k].size() > hi ? lists[k].size() : hi;
+  }
+  return T > 0 ? hi - lo : 0;
 }
 
 /// f(lo, hi) on consecutive blocks covering [0, n): one block per thread of a team when

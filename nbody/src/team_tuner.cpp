@@ -69,10 +69,10 @@ TeamTuner::~TeamTuner() {
 
 void TeamTuner::apply(Rule r) const {
   constexpr std::size_t never = std::numeric_limits<std::size_t>::max();
-  TeamThresholds& t = team_thresholds();
-  if (r == size_rule) t = TeamThresholds{items0_, stream0_};
-  if (r == every_pass) t = TeamThresholds{items0_, 1};
-  if (r == one_thread) t = TeamThresholds{never, never};
+  TeamThresholds& t = team_thresholds();  // (the rules set the team sizes; the skew thresholds stay)
+  if (r == size_rule) t.items = items0_, t.stream = stream0_;
+  if (r == every_pass) t.items = items0_, t.stream = 1;
+  if (r == one_thread) t.items = never, t.stream = never;
 }
 
 void TeamTuner::force(Rule r) {

@@ -111,6 +111,8 @@ void serial_equals_teams(bool multirate, int steps) {
   const SimConfig c = scene(sp, multirate);
   const Result serial = run(sp, c, 1, TeamThresholds{}, steps);
   const Result teams = run(sp, c, 3, TeamThresholds{1, 1}, steps);
+  // the listed opening kicks and level assignments shared by count at every step (for_joined_share)
+  const Result shared = run(sp, c, 3, TeamThresholds{1, 1, 0, 0}, steps);
   EXPECT_GT(serial.cs.contacts, 0u);
   EXPECT_GT(serial.cs.wall_contacts, 0u);
   int levels_used = 0;
@@ -123,6 +125,7 @@ void serial_equals_teams(bool multirate, int steps) {
     EXPECT_GT(serial.ls.promotions, 0);
   }
   expect_same(serial, teams);
+  expect_same(serial, shared);
 }
 
 }  // namespace

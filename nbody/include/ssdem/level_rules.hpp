@@ -91,6 +91,9 @@ class LevelRules {
   /// per tz how many spheres assign() synchronised at its last call with that tz: whether the
   /// next call's pass over them gets a team (omp_team.hpp)
   std::size_t synced_at_tz_[kMaxLevel + 1] = {};
+  /// per tz how unevenly the threads' blocks held those spheres at that call (whether the next
+  /// call shares them by count: level_rules.cpp)
+  std::size_t synced_skew_[kMaxLevel + 1] = {};
   std::vector<std::uint32_t> unsettled_, cand_, fresh_;  ///< pairs not on one level <= their l_c (ascending)
   std::uint64_t unsettled_version_ = 0;
   bool unsettled_valid_ = false;
