@@ -131,21 +131,11 @@ bool ContactSystem::local_update(const Spheres& sp, bool all) {
   }
   // then the pairs within reach of each, and, in ascending order, each that has none and no
   // partner within the larger reach either takes the margin (each isolation test sees the earlier
-  // ones' margins: at the end every isolated sphere is still isolated). The searches may run
-  // first: a sphere with a pair within reach is not isolated, and one that takes the margin has
-  // no partner within s_i + s_j + k + M, so it is not found by the others' searches either way.
+  // ones' margins: at the end every isolated sphere is still isolated); the searches on a team
+  // (search_moved, pair_grid.cpp)
   auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
   std::vector<std::uint64_t> nk;
-  for (std::uint32_t i : moved_) {
-    const std::size_t before = nk.size();
-    for_each_near(sp, i, [&](std::uint32_t j) { nk.push_back(pkey(i, j)); });
-    if (margins_on_ && nk.size() == before && isolated(sp, i)) {
-      unlink(i);
-      fast_[i] = 1;
-      link(i);
-      ++promotions_;
-    }
-  }
+  search_moved(sp, nk);
   if (drift_ && sched_.valid())
     for (std::uint32_t i : moved_) plan(sp, i);  // (new reference position, margin)
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index

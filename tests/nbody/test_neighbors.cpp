@@ -3,6 +3,7 @@
 /// history survives local updates bit for bit (against a list rebuilt from scratch every step, the
 /// old behaviour), and on debris (few fast, many slow) full rebuilds are rare.
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "ssdem/contact_params.hpp"
 #include "ssdem/contacts.hpp"
 #include "ssdem/generators.hpp"
+#include "../../nbody/src/omp_team.hpp"
 
 using namespace ssdem;
 
@@ -325,4 +327,60 @@ TEST(Neighbors, NoMissedContactWithSpheresHoldingMargins) {
     EXPECT_TRUE(cluster_met) << "the cluster must reach the lone sphere";
     EXPECT_GT(found, 100u);
   }
+}
+
+// The searches around re-inserted spheres run on a team (ContactSystem::search_moved) and the
+// margins are then given in ascending order, as one loop of search and margin would: a pile at
+// rest, and far from it lone spheres re-inserted in one update: pairs 6 m apart (spheres of 1 m,
+// skin 0.4, margin M = c = 2.4: each is isolated while neither holds a margin, 6 > 4.8, but once
+// the first takes one the second is not, 6 < 7.2: one margin per pair), singles (one each) and
+// pairs 4 m apart (none: 4 < 4.8). One thread and a team of 3 with every region on a team must
+// give these margins and the same list.
+TEST(Neighbors, SearchesOnATeamGiveTheMarginsInOrder) {
+  Spheres base = lattice_pile(10.0, 1.0, 2000.0, 0.05, 5);
+  const std::size_t npile = base.size();
+  std::uint64_t id = 100000;
+  auto lone = [&](const Vec3& x) { base.push(id++, x, Vec3::Zero(), Vec3::Zero(), 1.0, 1.0); };
+  for (int k = 0; k < 30; ++k) {
+    lone(Vec3(100.0 + 30.0 * k, 0.0, 0.0));
+    lone(Vec3(100.0 + 30.0 * k, 6.0, 0.0));
+  }
+  for (int k = 0; k < 10; ++k) lone(Vec3(100.0 + 30.0 * k, 60.0, 0.0));
+  for (int k = 0; k < 10; ++k) {
+    lone(Vec3(100.0 + 30.0 * k, 120.0, 0.0));
+    lone(Vec3(100.0 + 30.0 * k, 124.0, 0.0));
+  }
+  ASSERT_LE(4 * (base.size() - npile), base.size()) << "a local update, not a rebuild";
+  struct Out {
+    std::size_t margins, fast;
+    std::vector<std::uint8_t> listed;
+  };
+  auto run = [&](int threads, TeamThresholds t) {
+    const int old_threads = omp_get_max_threads();
+    const TeamThresholds old_t = team_thresholds();
+    omp_set_num_threads(threads);
+    team_thresholds() = t;
+    Spheres sp = base;
+    ContactSystem cs(linear(0), {}, 0.4);
+    cs.update_neighbors(sp, true);
+    Out o{};
+    for (int round = 0; round < 3; ++round) {  // past f k = 0.2: every lone sphere re-inserted
+      for (std::size_t i = npile; i < sp.size(); ++i) sp.x[i] += Vec3(0.0, 0.0, 3.0);
+      EXPECT_FALSE(cs.update_neighbors(sp)) << "round " << round << ": a local update";
+      o.margins = cs.margin_count();
+      o.fast = cs.fast_spheres();
+      EXPECT_EQ(o.fast, 30u + 10u) << "round " << round << ", " << threads << " thread(s)";
+    }
+    for (std::size_t i = 0; i < sp.size(); ++i)
+      for (std::size_t j = i + 1; j < sp.size(); ++j) o.listed.push_back(cs.listed(i, j) ? 1 : 0);
+    omp_set_num_threads(old_threads);
+    team_thresholds() = old_t;
+    return o;
+  };
+  const Out serial = run(1, TeamThresholds{});
+  const Out team = run(3, TeamThresholds{1, 1, 0, 0});
+  EXPECT_EQ(serial.margins, 3u * 40u);
+  EXPECT_EQ(team.margins, serial.margins);
+  EXPECT_EQ(team.fast, serial.fast);
+  EXPECT_TRUE(team.listed == serial.listed);
 }

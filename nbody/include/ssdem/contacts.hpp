@@ -259,6 +259,10 @@ class ContactSystem {
   void for_each_near(const Spheres& sp, std::uint32_t i, F&& f) const;
   /// Whether i has no partner within reach if it took the margin of an isolated sphere.
   bool isolated(const Spheres& sp, std::uint32_t i) const;
+  /// Appends to nk the keys (i << 32 | j, i < j) of the pairs within reach of each sphere of
+  /// moved_ (unsorted, repeats possible), and gives the margin to each that has none and no
+  /// partner within the larger reach either, in ascending order (pair_grid.cpp).
+  void search_moved(const Spheres& sp, std::vector<std::uint64_t>& nk);
   template <unsigned PARTS>
   ContactStats compute_impl(const Spheres& sp, const std::vector<Vec3>& vpred,
                             const std::vector<Vec3>& wpred, double h, std::vector<Vec3>& F,
@@ -300,6 +304,11 @@ class ContactSystem {
   std::vector<std::uint64_t> ckey_;
   std::vector<std::uint8_t> mark_;   // scratch: 1 for the spheres of marked_, 0 for the others
   std::vector<std::uint32_t> moved_, marked_;
+  std::vector<std::uint8_t> iso_;                     // scratch of search_moved: per moved sphere
+  struct alignas(64) KeyPart {  // (a cache line each: the threads' push_backs write their headers)
+    std::vector<std::uint64_t> keys;
+  };
+  std::vector<KeyPart> nk_part_;  // scratch of search_moved: per thread
   // scheduled tests: the current call's drift (null outside update_neighbors(sp, drift)), the
   // schedule, and the spheres it names for this call
   const Drift* drift_ = nullptr;
