@@ -26,6 +26,15 @@ inline void for_each_flagged(const std::uint8_t* flags, std::size_t n, F&& f) {
     if (flags[i]) f(i);
 }
 
+/// The number of i < n with flags[i] != 0 (eight bytes at a time, as for_each_flagged: a byte
+/// sum widened to 64 bits lane by lane cost ~20 us per base step over the 155 805 spheres of
+/// the 2.42 km 375 m row, where few are set).
+inline std::size_t count_flagged(const std::uint8_t* flags, std::size_t n) {
+  std::size_t c = 0;
+  for_each_flagged(flags, n, [&](std::size_t) { ++c; });
+  return c;
+}
+
 /// Appends to `out` every i in [b, e) with v[i] <= t, ascending. Eight bytes at a time: a group
 /// with no byte below t + 1 (the usual case on debris, where few spheres are synchronised at a
 /// step) costs one load and a test ("a word has a byte less than n", exact for n <= 128; Anderson,

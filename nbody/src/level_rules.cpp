@@ -235,8 +235,7 @@ void LevelRules::equalise(const Spheres& sp, const ContactSystem& cs, int tz, Bo
     const int li = level[pi[p]];
     return li != level[pj[p]] || plev_[p] < li;
   };
-  std::size_t nflag = 0;
-  for (std::size_t i = 0; i < n; ++i) nflag += lflag[i];
+  const std::size_t nflag = count_flagged(lflag.data(), n);
   // many changed levels (a body breaking up): one parallel scan of all pairs is cheaper
   if (!unsettled_valid_ || unsettled_version_ != cs.list_version() || 16 * nflag > n) {
     unsettled_.clear();

@@ -15,6 +15,7 @@
 #include "byte_flags.hpp"
 #include "common/status.hpp"
 #include "omp_team.hpp"
+#include "ssdem/loop_split.hpp"
 #include "ssdem/simulation.hpp"
 
 namespace ssdem {
@@ -161,11 +162,19 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
   // more than they save (nbody/README.md: integrate 5.81 -> 6.31 s); threshold in omp_team.hpp.
   // Who kicks a sphere never changes its bits.
   const bool share = skew[tzo] >= team_thresholds().kick_skew;
+  // The blocks' cuts follow the threads' measured times (loop_split.hpp), one split for the
+  // blocks' openings and one for the other steps: on the 375 m row the thread whose block holds
+  // the pile took ~1.7x as long over the same number of spheres, its x and v last written by the
+  // other thread's kicks and sums (perf per thread). Any cut gives the same bits.
+  thread_local LoopSplit split[2];
+  LoopSplit& cut = split[s0 == 0 ? 0 : 1];
+  cut.begin(n, team ? omp_get_max_threads() : 1);
   in_team(team, [&] {
-    // each thread its static block of spheres: kicks, then the drift of the same spheres
+    // each thread its block of spheres: kicks, then the drift of the same spheres
     const int t = omp_get_thread_num(), T = omp_get_num_threads();
     std::size_t b, e;
-    static_block(n, t, T, b, e);
+    cut.block(n, t, T, b, e);
+    double t0 = T > 1 ? omp_get_wtime() : 0.0;
     if (s0 == 0) {  // a block opens: every sphere opens (levels <= L)
       for (std::size_t i = b; i < e; ++i) open(i);
     } else {  // the spheres on levels l with 2^l | s0, listed without a branch per sphere
@@ -183,6 +192,7 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
 #pragma omp barrier
         for_joined_share(lists, t, T, open);
 #pragma omp barrier
+        t0 = omp_get_wtime();  // (the blocks' own work: the drift)
       } else {
         for (std::uint32_t i : lists[t]) open(i);
       }
@@ -193,7 +203,9 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
     double* xf = x->data();
     const double* vf = v->data();
     for (std::size_t c = 3 * b; c < 3 * e; ++c) xf[c] += h * vf[c];
+    if (T > 1) cut.record(t, omp_get_wtime() - t0);
   });
+  cut.end();
   if (s0 != 0 && team) skew[tzo] = list_skew(lists, static_cast<int>(slots));
 }
 

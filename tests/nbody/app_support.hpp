@@ -1,7 +1,7 @@
 /// @file app_support.hpp
 /// Helpers of the tests that run ssdem-grav end to end (test_app.cpp, test_sphere_order.cpp):
 /// the tool's command line on one thread, a scratch directory, the settling lattice pile both
-/// use, and the last snapshot of a run. SSDEM_GRAV_EXE is the tool's path (CMake).
+/// use, the last snapshot of a run and a checkpoint read for rewriting. SSDEM_GRAV_EXE is the tool's path (CMake).
 #pragma once
 #include <sys/wait.h>
 #include <unistd.h>
@@ -11,7 +11,9 @@
 #include <fstream>
 #include <string>
 
+#include "common/provenance.hpp"
 #include "common/sphere_file.hpp"
+#include "ssdem/io.hpp"
 
 namespace ssdem_test {
 
@@ -72,6 +74,23 @@ inline common::SphereSet last_snapshot(const std::string& dir) {
       best = e.path().string();
   }
   return common::read_sphere_set(best);
+}
+
+/// A checkpoint with the header values that writing it again needs (a test that damages it).
+struct CheckpointCopy {
+  ssdem::SimState st;
+  double dt = 0.0, kn = 0.0;
+  int every = 0;
+  std::string identity;
+  /// Writes it to `path`, with `identity` instead of the recorded one if given.
+  void write(const std::string& path, const common::Provenance& prov, const std::string* identity_instead = nullptr) const {
+    ssdem::write_checkpoint(path, st, dt, every, prov, kn, identity_instead ? *identity_instead : identity);
+  }
+};
+inline CheckpointCopy read_checkpoint_copy(const std::string& path) {
+  CheckpointCopy c;
+  c.st = ssdem::read_checkpoint(path, &c.dt, &c.every, &c.kn, &c.identity);
+  return c;
 }
 
 }  // namespace ssdem_test

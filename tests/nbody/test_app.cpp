@@ -31,8 +31,10 @@ using namespace ssdem;
 namespace fs = std::filesystem;
 
 namespace {
+using ssdem_test::CheckpointCopy;
 using ssdem_test::kExe;
 using ssdem_test::last_snapshot;
+using ssdem_test::read_checkpoint_copy;
 using ssdem_test::run_cmd;
 using ssdem_test::tmpdir;
 using ssdem_test::write_scene;
@@ -200,14 +202,11 @@ TEST(App, RestartFromACheckpointThatRecordedTheGroupContinues) {
   const std::string d = tmpdir("group");
   const std::string scene = write_scene(d);
   ASSERT_EQ(run_cmd("--scene " + scene + " --set output.directory=\\\"" + d + "/part\\\" --set time.end=13.0"), 0);
-  double dt = 0, kn = 0;
-  int every = 0;
-  std::string ident;
-  const SimState st = read_checkpoint(d + "/part/checkpoint.h5", &dt, &every, &kn, &ident);
-  ASSERT_FALSE(ident.empty());
-  ASSERT_EQ(ident.find("gravity.group"), std::string::npos);
-  write_checkpoint(d + "/old.h5", st, dt, every, common::Provenance{"ssdem-grav", "", "", "", ""}, kn,
-                   ident + "gravity.group = 64\n");
+  const CheckpointCopy ck = read_checkpoint_copy(d + "/part/checkpoint.h5");
+  ASSERT_FALSE(ck.identity.empty());
+  ASSERT_EQ(ck.identity.find("gravity.group"), std::string::npos);
+  const std::string with_group = ck.identity + "gravity.group = 64\n";
+  ck.write(d + "/old.h5", common::Provenance{"ssdem-grav", "", "", "", ""}, &with_group);
   auto restart = [&](const std::string& sets, const std::string& out) {
     const std::string log = d + "/" + out + ".log";
     const std::string cmd = "OMP_NUM_THREADS=1 " + kExe + " --quiet --scene " + scene + " --set output.directory=\\\"" +

@@ -40,5 +40,6 @@ TEST(ByteFlags, ForEachFlaggedVisitsTheSetOnesAscending) {
     for (std::size_t i = 0; i < n; ++i)
       if (f[i]) want.push_back(i);
     ASSERT_EQ(got, want) << "trial " << trial;
+    EXPECT_EQ(count_flagged(f.data(), n), want.size()) << "trial " << trial;
   }
 }

@@ -36,7 +36,9 @@ using namespace ssdem;
 namespace fs = std::filesystem;
 
 namespace {
+using ssdem_test::CheckpointCopy;
 using ssdem_test::last_snapshot;
+using ssdem_test::read_checkpoint_copy;
 using ssdem_test::run_cmd;
 using ssdem_test::write_scene;
 
@@ -315,13 +317,10 @@ TEST(SphereOrderApp, DamagedRecordedOrderExitsWith2) {
   const std::string d = tmpdir("damaged");
   const std::string scene = write_scene(d);
   ASSERT_EQ(run_cmd("--scene " + scene + " --set time.end=2.0 --set output.directory=\\\"" + d + "/a\\\""), 0);
-  double dt = 0, kn = 0;
-  int every = 0;
-  std::string ident;
-  SimState st = read_checkpoint(d + "/a/checkpoint.h5", &dt, &every, &kn, &ident);
-  ASSERT_FALSE(st.sphere_order.empty());
-  st.sphere_order[1] = st.sphere_order[0];  // one row twice, one missing
-  write_checkpoint(d + "/bad.h5", st, dt, every, common::Provenance{}, kn, ident);
+  CheckpointCopy ck = read_checkpoint_copy(d + "/a/checkpoint.h5");
+  ASSERT_FALSE(ck.st.sphere_order.empty());
+  ck.st.sphere_order[1] = ck.st.sphere_order[0];  // one row twice, one missing
+  ck.write(d + "/bad.h5", common::Provenance{});
   EXPECT_EQ(run_cmd("--scene " + scene + " --set time.end=3.0 --set output.directory=\\\"" + d +
                     "/b\\\" --restart " + d + "/bad.h5"),
             2);

@@ -14,7 +14,9 @@
 /// x_k interpolated linearly inside the block where C reaches the target. Cuts are kept per loop
 /// size (quarter octaves of n), since the subsets of different levels differ in where their cost
 /// lies. Each thread still writes what it wrote before (its items' records, a sphere's sums), so
-/// the results do not depend on the cuts, only the speed does.
+/// the results do not depend on the cuts, only the speed does. Used by the contact loops
+/// (contacts.cpp) and the opening kicks and drift (multirate.cpp: there the items cost the same,
+/// but the pile's spheres arrive from the other core's cache).
 #pragma once
 #include <array>
 #include <cstddef>
