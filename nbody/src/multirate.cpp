@@ -163,11 +163,12 @@ void open_and_drift(const KickArrays& k, const std::uint8_t* mask, std::int64_t 
   // Who kicks a sphere never changes its bits.
   const bool share = skew[tzo] >= team_thresholds().kick_skew;
   // The blocks' cuts follow the threads' measured times (loop_split.hpp), one split for the
-  // blocks' openings and one for the other steps: on the 375 m row the thread whose block holds
-  // the pile took ~1.7x as long over the same number of spheres, its x and v last written by the
-  // other thread's kicks and sums (perf per thread). Any cut gives the same bits.
-  thread_local LoopSplit split[2];
-  LoopSplit& cut = split[s0 == 0 ? 0 : 1];
+  // blocks' openings and one per coarsest opening level (6 and above together: the kicks by
+  // block cost differently at each): on the 375 m row the thread whose block holds the pile
+  // took ~1.7x as long over the same number of spheres, its x and v last written by the other
+  // thread's kicks and sums (perf per thread). Any cut gives the same bits.
+  thread_local LoopSplit split[8];
+  LoopSplit& cut = split[s0 == 0 ? 0 : 1 + std::min(tzo, 6)];
   cut.begin(n, team ? omp_get_max_threads() : 1);
   in_team(team, [&] {
     // each thread its block of spheres: kicks, then the drift of the same spheres

@@ -36,7 +36,7 @@ namespace ssdem {
 struct TeamThresholds {
   std::size_t items = 2048;
   std::size_t stream = 16384;
-  /// Listed items shared by count (for_joined_share) only where the threads' static blocks held
+  /// Listed items shared by count (for_joined_share) only where the threads' blocks held
   /// them this unevenly at the last comparable call: the opening kicks (~4 ns each, two barriers)
   /// and the level assignment (tens of ns each, one barrier); estimates from the barrier cost
   /// (~2 us on the VMs here), not tuned. Tests set 0 (always shared).

@@ -341,7 +341,7 @@ TEST(Neighbors, SearchesOnATeamGiveTheMarginsInOrder) {
   const std::size_t npile = base.size();
   std::uint64_t id = 100000;
   auto lone = [&](const Vec3& x) { base.push(id++, x, Vec3::Zero(), Vec3::Zero(), 1.0, 1.0); };
-  for (int k = 0; k < 30; ++k) {
+  for (int k = 0; k < 30; ++k) {  // the first of each takes the margin: its index is the lower
     lone(Vec3(100.0 + 30.0 * k, 0.0, 0.0));
     lone(Vec3(100.0 + 30.0 * k, 6.0, 0.0));
   }
@@ -350,31 +350,48 @@ TEST(Neighbors, SearchesOnATeamGiveTheMarginsInOrder) {
     lone(Vec3(100.0 + 30.0 * k, 120.0, 0.0));
     lone(Vec3(100.0 + 30.0 * k, 124.0, 0.0));
   }
+  for (int k = 0; k < 10; ++k) {  // and touching pairs that move with them (their pairs listed)
+    lone(Vec3(100.0 + 30.0 * k, 180.0, 0.0));
+    lone(Vec3(100.0 + 30.0 * k, 181.9, 0.0));
+  }
   ASSERT_LE(4 * (base.size() - npile), base.size()) << "a local update, not a rebuild";
   struct Out {
-    std::size_t margins, fast;
-    std::vector<std::uint8_t> listed;
+    std::size_t margins = 0, fast = 0;
+    std::vector<std::uint8_t> listed, margin;
+  };
+  struct Setting {  // thread count and thresholds for one run, restored on every path out of it
+    int threads = omp_get_max_threads();
+    TeamThresholds t = team_thresholds();
+    ~Setting() {
+      omp_set_num_threads(threads);
+      team_thresholds() = t;
+    }
   };
   auto run = [&](int threads, TeamThresholds t) {
-    const int old_threads = omp_get_max_threads();
-    const TeamThresholds old_t = team_thresholds();
+    const Setting restore;
     omp_set_num_threads(threads);
     team_thresholds() = t;
     Spheres sp = base;
     ContactSystem cs(linear(0), {}, 0.4);
     cs.update_neighbors(sp, true);
-    Out o{};
-    for (int round = 0; round < 3; ++round) {  // past f k = 0.2: every lone sphere re-inserted
+    Out o;
+    for (int round = 0; round < 3; ++round) {  // past f k + M = 2.6: every lone sphere re-inserted
       for (std::size_t i = npile; i < sp.size(); ++i) sp.x[i] += Vec3(0.0, 0.0, 3.0);
       EXPECT_FALSE(cs.update_neighbors(sp)) << "round " << round << ": a local update";
       o.margins = cs.margin_count();
       o.fast = cs.fast_spheres();
       EXPECT_EQ(o.fast, 30u + 10u) << "round " << round << ", " << threads << " thread(s)";
     }
-    for (std::size_t i = 0; i < sp.size(); ++i)
+    for (std::size_t i = 0; i < sp.size(); ++i) {
+      o.margin.push_back(cs.holds_margin(i) ? 1 : 0);
       for (std::size_t j = i + 1; j < sp.size(); ++j) o.listed.push_back(cs.listed(i, j) ? 1 : 0);
-    omp_set_num_threads(old_threads);
-    team_thresholds() = old_t;
+    }
+    for (std::size_t k = 0; k < 30; ++k) {
+      EXPECT_TRUE(cs.holds_margin(npile + 2 * k)) << "the lower index of pair " << k;
+      EXPECT_FALSE(cs.holds_margin(npile + 2 * k + 1)) << "the higher index of pair " << k;
+    }
+    for (std::size_t k = 0; k < 10; ++k)
+      EXPECT_TRUE(cs.listed(npile + 90 + 2 * k, npile + 90 + 2 * k + 1)) << "touching pair " << k;
     return o;
   };
   const Out serial = run(1, TeamThresholds{});
@@ -382,5 +399,6 @@ TEST(Neighbors, SearchesOnATeamGiveTheMarginsInOrder) {
   EXPECT_EQ(serial.margins, 3u * 40u);
   EXPECT_EQ(team.margins, serial.margins);
   EXPECT_EQ(team.fast, serial.fast);
+  EXPECT_TRUE(team.margin == serial.margin);
   EXPECT_TRUE(team.listed == serial.listed);
 }

@@ -188,6 +188,7 @@ class ContactSystem {
   /// Re-insertions that gave a sphere the margin of an isolated one, and spheres holding it now.
   std::size_t margin_count() const { return promotions_; }
   std::size_t fast_spheres() const { return fhead_count_; }
+  bool holds_margin(std::size_t i) const { return i < fast_.size() && fast_[i] != 0; }
   double reinsert_fraction() const { return reinsert_frac_; }
   /// CSR of the pair list: pairs p in [row_i()[k], row_i()[k+1]) have k as i member; pairs
   /// jpair()[q], q in [row_j()[k], row_j()[k+1]), have k as j member.
