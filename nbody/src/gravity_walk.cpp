@@ -1,8 +1,13 @@
 /// @file gravity_walk.cpp
-/// Group tree walk of TreeGravity (gravity.hpp): one walk per leaf (the sink group) builds three
-/// interaction lists shared by the leaf's spheres — multipole cells, far particles (Newtonian
+/// Group tree walk of TreeGravity (gravity.hpp): one walk per sink group builds three
+/// interaction lists shared by the group's spheres — multipole cells, far particles (Newtonian
 /// pairs) and near particles (possibly overlapping pairs, spline kernel) — gathered into
 /// structure-of-arrays buffers and summed by the vectorised kernels of gravity_kernels.cpp.
+/// A leaf that the walk finds near the group is split particle by particle: a particle whose
+/// distance to the group's box is at least its radius plus the group's largest radius cannot
+/// overlap any sink (r >= h_i + h_j, where the spline is exactly Newtonian) and joins the far
+/// list. In a dense pile the near leaves' boxes reach two sphere diameters beyond the group while
+/// the overlapping pairs lie within one, so most of them are far (measured in nbody/README.md).
 #include <algorithm>
 #include <cmath>
 
@@ -16,10 +21,18 @@ double box_distance(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec
   const Vec3 d = (alo - bhi).cwiseMax(blo - ahi).cwiseMax(Vec3::Zero());
   return d.norm();
 }
+// Squared distance from a point to an axis-aligned box (0 inside).
+double point_box_distance2(double x, double y, double z, const Vec3& lo, const Vec3& hi) {
+  const double dx = std::max({lo.x() - x, x - hi.x(), 0.0});
+  const double dy = std::max({lo.y() - y, y - hi.y(), 0.0});
+  const double dz = std::max({lo.z() - z, z - hi.z(), 0.0});
+  return dx * dx + dy * dy + dz * dz;
+}
 // Per-thread gather buffers.
 struct Lists {
   std::vector<std::uint32_t> stack, cells, far, near;  // far/near: leaf node indices
-  std::vector<float> cbuf, fbuf, sbuf;
+  std::vector<std::uint32_t> fpart, npart;           // far/near: particle indices (tree order)
+  std::vector<float> cbuf, fbuf, sbuf, nflt;
   std::vector<double> nbuf, sdbl, acc;
   std::vector<std::int32_t> ntid, stid;
 };
@@ -31,16 +44,17 @@ void TreeGravity::compute(const Spheres& sp, std::vector<Vec3>& acc, std::vector
   if (pot) pot->assign(n, 0.0);
   if (n == 0) return;
   build(sp);
-  double cells = 0, parts = 0;
-  tree::walk(d_, p_, d_.groups, acc, pot, cells, parts);
-  d_.stats.cell_interactions = cells / static_cast<double>(n);
-  d_.stats.particle_interactions = parts / static_cast<double>(n);
+  tree::WalkTally tally;
+  tree::walk(d_, p_, d_.groups, acc, pot, tally);
+  d_.stats.cell_interactions = tally.cells / static_cast<double>(n);
+  d_.stats.particle_interactions = tally.parts / static_cast<double>(n);
+  d_.stats.near_interactions = tally.near / static_cast<double>(n);
 }
 
 namespace tree {
 
 void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t>& groups,
-          std::vector<Vec3>& acc, std::vector<double>* pot, double& cells, double& parts) {
+          std::vector<Vec3>& acc, std::vector<double>* pot, WalkTally& tally) {
   if (d.nodes.empty() || groups.empty()) return;
   const std::vector<Node>& nodes = d.nodes;
   const std::vector<double>&px = d.px, &py = d.py, &pz = d.pz, &pm = d.pm, &ph = d.ph;
@@ -54,8 +68,8 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
   const std::size_t nl = groups.size();
   std::size_t nsinks = 0;
   for (std::uint32_t gi : groups) nsinks += nodes[gi].count;
-  double tot_cells = 0, tot_parts = 0;
-#pragma omp parallel reduction(+ : tot_cells, tot_parts) if (nsinks >= 1024)
+  double tot_cells = 0, tot_parts = 0, tot_near = 0;
+#pragma omp parallel reduction(+ : tot_cells, tot_parts, tot_near) if (nsinks >= 1024)
   {
     Lists w;
     w.stack.reserve(256);
@@ -103,47 +117,65 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
           for (int q = 0; q < 6; ++q) b[(4 + q) * m + k] = static_cast<float>(nd.q[q] * im * il2);
         }
       }
-      std::size_t nf = 0, nn = 0;
-      for (std::uint32_t li : w.far) nf += nodes[li].count;
-      for (std::uint32_t li : w.near) nn += nodes[li].count;
+      // particles: far leaves whole; near leaves (other than the group) split per particle
+      w.fpart.clear();
+      w.npart.clear();
+      for (std::uint32_t li : w.far)
+        for (std::uint32_t t = nodes[li].start; t < nodes[li].start + nodes[li].count; ++t) w.fpart.push_back(t);
+      for (std::uint32_t li : w.near) {
+        const std::uint32_t t0 = nodes[li].start, t1 = t0 + nodes[li].count;
+        if (li == gi) {
+          for (std::uint32_t t = t0; t < t1; ++t) w.npart.push_back(t);
+          continue;
+        }
+        for (std::uint32_t t = t0; t < t1; ++t) {
+          const double h = ph[t] + g.hmax;
+          (point_box_distance2(px[t], py[t], pz[t], g.lo, g.hi) < h * h ? w.npart : w.fpart).push_back(t);
+        }
+      }
+      const std::size_t nf = w.fpart.size(), nn = w.npart.size();
       detail::PartList fl;
       fl.n = nf;
       w.fbuf.resize(4 * nf);
       {
         float* b = w.fbuf.data();
         fl.x = b, fl.y = b + nf, fl.z = b + 2 * nf, fl.m = b + 3 * nf;
-        std::size_t k = 0;
-        for (std::uint32_t li : w.far)
-          for (std::uint32_t t = nodes[li].start; t < nodes[li].start + nodes[li].count; ++t, ++k) {
-            b[k] = static_cast<float>((px[t] - c0.x()) * il);
-            b[nf + k] = static_cast<float>((py[t] - c0.y()) * il);
-            b[2 * nf + k] = static_cast<float>((pz[t] - c0.z()) * il);
-            b[3 * nf + k] = static_cast<float>(pm[t] * im);
-          }
+        for (std::size_t k = 0; k < nf; ++k) {
+          const std::uint32_t t = w.fpart[k];
+          b[k] = static_cast<float>((px[t] - c0.x()) * il);
+          b[nf + k] = static_cast<float>((py[t] - c0.y()) * il);
+          b[2 * nf + k] = static_cast<float>((pz[t] - c0.z()) * il);
+          b[3 * nf + k] = static_cast<float>(pm[t] * im);
+        }
       }
+      // near list in units of the group's largest radius (gravity_kernels.hpp)
+      const double iln = 1.0 / g.hmax;
       detail::NearList nlst;
       nlst.n = nn;
-      w.nbuf.resize(5 * nn);
+      nlst.acc_scale = (L * iln) * (L * iln);
+      nlst.pot_scale = L * iln;
+      w.nbuf.resize(3 * nn);
+      w.nflt.resize(2 * nn);
       w.ntid.resize(nn);
       {
         double* b = w.nbuf.data();
-        nlst.x = b, nlst.y = b + nn, nlst.z = b + 2 * nn, nlst.m = b + 3 * nn, nlst.h = b + 4 * nn;
+        float* f = w.nflt.data();
+        nlst.x = b, nlst.y = b + nn, nlst.z = b + 2 * nn, nlst.m = f, nlst.h = f + nn;
         nlst.tid = w.ntid.data();
-        std::size_t k = 0;
-        for (std::uint32_t li : w.near)
-          for (std::uint32_t t = nodes[li].start; t < nodes[li].start + nodes[li].count; ++t, ++k) {
-            b[k] = (px[t] - c0.x()) * il;
-            b[nn + k] = (py[t] - c0.y()) * il;
-            b[2 * nn + k] = (pz[t] - c0.z()) * il;
-            b[3 * nn + k] = pm[t] * im;
-            b[4 * nn + k] = ph[t] * il;
-            w.ntid[k] = static_cast<std::int32_t>(t);
-          }
+        for (std::size_t k = 0; k < nn; ++k) {
+          const std::uint32_t t = w.npart[k];
+          b[k] = (px[t] - c0.x()) * iln;
+          b[nn + k] = (py[t] - c0.y()) * iln;
+          b[2 * nn + k] = (pz[t] - c0.z()) * iln;
+          f[k] = static_cast<float>(pm[t] * im);
+          f[nn + k] = static_cast<float>(ph[t] * iln);
+          w.ntid[k] = static_cast<std::int32_t>(t);
+        }
       }
       // sinks
       const std::size_t ns = g.count;
-      w.sbuf.resize(3 * ns);
-      w.sdbl.resize(4 * ns);
+      w.sbuf.resize(4 * ns);
+      w.sdbl.resize(3 * ns);
       w.stid.resize(ns);
       w.acc.assign(4 * ns, 0.0);
       detail::GroupSinks s;
@@ -153,16 +185,17 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
         double* d = w.sdbl.data();
         for (std::size_t k = 0; k < ns; ++k) {
           const std::uint32_t t = g.start + static_cast<std::uint32_t>(k);
-          d[k] = (px[t] - c0.x()) * il;
-          d[ns + k] = (py[t] - c0.y()) * il;
-          d[2 * ns + k] = (pz[t] - c0.z()) * il;
-          d[3 * ns + k] = ph[t] * il;
-          b[k] = static_cast<float>(d[k]), b[ns + k] = static_cast<float>(d[ns + k]);
-          b[2 * ns + k] = static_cast<float>(d[2 * ns + k]);
+          b[k] = static_cast<float>((px[t] - c0.x()) * il);
+          b[ns + k] = static_cast<float>((py[t] - c0.y()) * il);
+          b[2 * ns + k] = static_cast<float>((pz[t] - c0.z()) * il);
+          b[3 * ns + k] = static_cast<float>(ph[t] * iln);
+          d[k] = (px[t] - c0.x()) * iln;
+          d[ns + k] = (py[t] - c0.y()) * iln;
+          d[2 * ns + k] = (pz[t] - c0.z()) * iln;
           w.stid[k] = static_cast<std::int32_t>(t);
         }
-        s.x = b, s.y = b + ns, s.z = b + 2 * ns, s.tid = w.stid.data();
-        s.xd = d, s.yd = d + ns, s.zd = d + 2 * ns, s.hd = d + 3 * ns;
+        s.x = b, s.y = b + ns, s.z = b + 2 * ns, s.h = b + 3 * ns, s.tid = w.stid.data();
+        s.xd = d, s.yd = d + ns, s.zd = d + 2 * ns;
         double* a = w.acc.data();
         s.ax = a, s.ay = a + ns, s.az = a + 2 * ns;
         s.pot = pot ? a + 3 * ns : nullptr;
@@ -172,6 +205,7 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
       detail::near_kernel(s, nlst);
       tot_cells += static_cast<double>(cl.n) * static_cast<double>(ns);
       tot_parts += static_cast<double>(fl.n + nlst.n) * static_cast<double>(ns);
+      tot_near += static_cast<double>(nlst.n) * static_cast<double>(ns);
       for (std::size_t k = 0; k < ns; ++k) {
         const std::uint32_t i = d.perm[g.start + k];
         acc[i] = Vec3(facc * s.ax[k], facc * s.ay[k], facc * s.az[k]);
@@ -179,8 +213,9 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
       }
     }
   }
-  cells += tot_cells;
-  parts += tot_parts;
+  tally.cells += tot_cells;
+  tally.parts += tot_parts;
+  tally.near += tot_near;
 }
 
 }  // namespace tree

@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
   double arms = 0;
   for (const Vec3& v : ad) arms += v.squaredNorm();
   arms = std::sqrt(arms / static_cast<double>(sp.size()));
-  std::printf("%zu spheres, %d threads\n| theta | bucket | group | us/sphere | cells/sphere | particles/sphere | "
+  std::printf("%zu spheres, %d threads\n| theta | bucket | group | us/sphere | cells/sphere | particles/sphere (near) | "
               "rms rel error (floor 0.1 a_rms) | max |\n|---|---|---|---|---|---|---|---|\n",
               sp.size(), omp_get_max_threads());
   for (double th : thetas)
@@ -70,9 +70,9 @@ int main(int argc, char** argv) {
         e2 += e * e;
         emax = std::max(emax, e);
       }
-      std::printf("| %.2f | %d | %d | %.3f | %.0f | %.0f | %.2e | %.2e |\n", th, gp.bucket, gp.group,
+      std::printf("| %.2f | %d | %d | %.3f | %.0f | %.0f (%.0f) | %.2e | %.2e |\n", th, gp.bucket, gp.group,
                   1e6 * t[t.size() / 2] / static_cast<double>(sp.size()), tree.stats().cell_interactions,
-                  tree.stats().particle_interactions, std::sqrt(e2 / static_cast<double>(sp.size())), emax);
+                  tree.stats().particle_interactions, tree.stats().near_interactions, std::sqrt(e2 / static_cast<double>(sp.size())), emax);
       std::fflush(stdout);
     }
   return 0;

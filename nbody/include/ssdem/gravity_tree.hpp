@@ -31,6 +31,7 @@ struct GravityParams {
 struct TreeStats {
   std::size_t nodes = 0, leaves = 0, depth = 0;
   double cell_interactions = 0, particle_interactions = 0;  ///< per particle, mean
+  double near_interactions = 0;  ///< per particle, mean: the softened share of particle_interactions
 };
 
 }  // namespace ssdem
@@ -104,11 +105,15 @@ void build_subtree(Data& d, const GravityParams& p, const Source& src, std::uint
 /// Moments (mass, centre of mass, quadrupole, b_max, h_max, box) of node `self` from its
 /// particles (leaf) or its children (which must be complete).
 void moments(Data& d, std::uint32_t self);
+/// Interaction counts of one walk, summed over its sinks (TreeStats divides them by the sinks).
+struct WalkTally {
+  double cells = 0, parts = 0, near = 0;
+};
 /// Walk the groups `groups` (node indices) of a complete tree: accelerations (and potentials)
 /// of their particles, written to acc[d.perm[t]] (pot[d.perm[t]]), in units G = p.G, lengths and
-/// masses as given. `M` is the total mass (nodes[0].mass). Per-particle interaction counts are
-/// added to cells/parts.
+/// masses as given. `M` is the total mass (nodes[0].mass). Interaction counts are added to
+/// `tally`.
 void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t>& groups,
-          std::vector<Vec3>& acc, std::vector<double>* pot, double& cells, double& parts);
+          std::vector<Vec3>& acc, std::vector<double>* pot, WalkTally& tally);
 
 }  // namespace ssdem::tree

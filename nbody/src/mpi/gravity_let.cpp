@@ -62,12 +62,13 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
   std::vector<Vec3> a(ng, Vec3::Zero());
   std::vector<double> ph;
   if (pot) ph.assign(ng, 0.0);
-  double cells = 0, parts = 0;
-  tree::walk(d_, p_, d_.groups, a, pot ? &ph : nullptr, cells, parts);
+  tree::WalkTally tally;
+  tree::walk(d_, p_, d_.groups, a, pot ? &ph : nullptr, tally);
   lap(st_.t_walk);
   if (ng > 0) {
-    d_.stats.cell_interactions = cells / static_cast<double>(ng);
-    d_.stats.particle_interactions = parts / static_cast<double>(ng);
+    d_.stats.cell_interactions = tally.cells / static_cast<double>(ng);
+    d_.stats.particle_interactions = tally.parts / static_cast<double>(ng);
+    d_.stats.near_interactions = tally.near / static_cast<double>(ng);
   }
   const std::size_t rec = (pot ? 4 : 3) * sizeof(double);
   std::vector<std::size_t> from(comm_.size, 0);
