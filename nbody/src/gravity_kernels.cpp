@@ -4,7 +4,7 @@
 /// with the spline softening, is in gravity_near_kernel.cpp). Checked with -fopt-info-vec (each
 /// list loop reports "loop vectorized").
 ///
-/// Subnormals: the single-precision cell and far loops run with flush-to-zero and
+/// Subnormals: the single-precision loops (cells, far and near lists) run with flush-to-zero and
 /// denormals-are-zero set (x86 MXCSR bits FTZ 0x8000, DAZ 0x0040; restored on return). On
 /// lattice-like inputs (the one-sphere-per-MPM-cell hand-off, HCP piles) the quadrupole of a
 /// symmetric cell cancels to round-off: components of ~1e-37 in kernel units, whose products

@@ -47,7 +47,8 @@ struct CellList {
   const float *x, *y, *z, *m, *q0, *q1, *q2, *q3, *q4, *q5;
 };
 
-/// Source particles of far leaves: position, mass.
+/// Source particles that cannot overlap any sink (far leaves, and the particles of near leaves
+/// that the walk splits off): position, mass.
 struct PartList {
   std::size_t n = 0;
   const float *x, *y, *z, *m;
@@ -80,7 +81,7 @@ struct FlushSubnormals {
 
 /// Quadrupole cells (never softened: the walk accepts a cell only beyond all softening lengths).
 void cell_kernel(const GroupSinks& g, const CellList& c);
-/// Particles of leaves farther than every softening length: plain Newtonian pairs.
+/// Particles farther than every softening length: plain Newtonian pairs.
 void far_kernel(const GroupSinks& g, const PartList& p);
 /// Particles that may overlap a sink: spline kernel branch-free, self excluded.
 void near_kernel(const GroupSinks& g, const NearList& p);
@@ -88,9 +89,11 @@ void near_kernel(const GroupSinks& g, const NearList& p);
 /// Every sink of a group against a list of `n` entries, two sinks per pass: each entry is loaded
 /// once for the pair and the two sinks' independent chains overlap (one sink per pass is bound by
 /// the latency of 1/sqrt and the powers of 1/r). `term(t, k, ax, ay, az, ph)` adds entry k's
-/// interaction with sink t to the sums; `add(t, ax, ay, az, ph)` stores sink t's sums. A sink's
-/// lanes and their order are those of a pass of its own, so its sums do not depend on the
-/// pairing; an odd last sink takes a pass alone.
+/// interaction with sink t to the sums; `add(t, ax, ay, az, ph)` stores sink t's sums. An odd
+/// last sink takes a pass alone. Whether a sink's sum comes out the same in a paired pass and in
+/// a pass of its own depends on how the compiler splits the reduction into lanes (with GCC: one
+/// vector accumulator per sum and the same width in both loops); nothing relies on it, since the
+/// pairing of a group's sinks is fixed by the group (the same on any thread and rank count).
 template <class Term, class Add>
 SSDEM_INLINE void sink_passes(std::size_t ns, std::size_t n, Term term, Add add) {
   std::size_t t = 0;

@@ -1,11 +1,13 @@
 /// @file gravity_near_kernel.cpp
 /// The near list's loop of the tree walk (gravity_kernels.hpp; spline kernel in gravity.hpp):
-/// the pairs that may overlap. Each separation is a difference of doubles (exact for the
-/// overlapping, coincident and collapsed pairs that sit 1e-9 of the group's extent apart)
-/// rounded to float once; the spline is then evaluated in single precision, branch-free (all
-/// three pieces computed, one selected; 1/r is infinite at r = 0 only in a piece not selected),
-/// in units of the group's largest radius (u = r/h and h near 1: no float overflow for any
-/// sphere size). Sinks are taken two at a time (`sink_passes`, gravity_kernels.hpp).
+/// the pairs that may overlap. Each separation is a difference of doubles (the coordinates
+/// relative to the group's centre carry ~1e-16 of the group's extent, so a pair 1e-9 of the
+/// extent apart keeps ~1e-7 of its separation) rounded to float once; the spline is then
+/// evaluated in single precision, branch-free (all three pieces computed, one selected; 1/r is
+/// infinite at r = 0 only in a piece not selected), in units of the group's largest radius (u =
+/// r/h and h near 1: no float overflow of 1/h^3 unless the radii within one group differ by
+/// ~1e12), with flush-to-zero as the other loops (gravity_kernels.cpp). Sinks are taken two at a
+/// time (`sink_passes`, gravity_kernels.hpp).
 ///
 /// Until 2026-12-06 the whole loop ran in double: 8 lanes of double divisions and square roots
 /// against 16 of float. Rounding now: the separation to 6e-8 of itself, the pair force to
@@ -32,9 +34,10 @@ SSDEM_INLINE void near_term(float rx, float ry, float rz, float m, float h, floa
   const float fb = ih3 * (64.0f / 3.0f - 48.0f * u + 38.4f * u2 - 32.0f / 3.0f * u2 * u - iu3 / 15.0f);
   const float fn = ir * ir * ir;
   const float f = u < 0.5f ? fa : (u < 1.0f ? fb : fn);
-  ax += m * f * rx;
-  ay += m * f * ry;
-  az += m * f * rz;
+  const float mf = m * f;
+  ax += mf * rx;
+  ay += mf * ry;
+  az += mf * rz;
   if constexpr (Pot) {
     const float wa = ih * (2.8f - u2 * (16.0f / 3.0f - u2 * (9.6f - 6.4f * u)));
     const float wb = ih * (3.2f - iu / 15.0f - u2 * (32.0f / 3.0f - u * (16.0f - u * (9.6f - 32.0f / 15.0f * u))));

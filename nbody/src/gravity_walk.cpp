@@ -6,7 +6,9 @@
 /// A leaf that the walk finds near the group is split particle by particle: a particle whose
 /// distance to the group's box is at least its radius plus the group's largest radius cannot
 /// overlap any sink (r >= h_i + h_j, where the spline is exactly Newtonian) and joins the far
-/// list. In a dense pile the near leaves' boxes reach two sphere diameters beyond the group while
+/// list, unless it lies within 1e-3 of the group's extent of the box (float precision: a leaf
+/// that close is near too).
+/// In a dense pile the near leaves' boxes reach two sphere diameters beyond the group while
 /// the overlapping pairs lie within one, so most of them are far (measured in nbody/README.md).
 #include <algorithm>
 #include <cmath>
@@ -77,6 +79,12 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
     for (std::size_t gl = 0; gl < nl; ++gl) {
       const std::uint32_t gi = groups[gl];
       const Node& g = nodes[gi];
+      // The far kernel takes coordinates relative to the group's centre in float, good to ~1e-7
+      // of the group's extent: a source closer to the group's box than 1e-3 of that extent keeps
+      // the near list's double differences (so every separation is good to ~1e-4 of itself; a
+      // close pair in a wide, sparse group, which before 2026-12-06 could lose percents or, at
+      // 1e7 radii of extent, round to r = 0). In a pile the extent is ~16 radii: never binds.
+      const double dmin = 1e-3 * (g.hi - g.lo).norm(), dmin2 = dmin * dmin;
       w.cells.clear();
       w.far.clear();
       w.near.clear();
@@ -92,7 +100,7 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
         if (tree_accepts(c, g.lo, g.hi, g.hmax, itheta)) {
           w.cells.push_back(ci);
         } else if (c.child < 0) {
-          (box_distance(c.lo, c.hi, g.lo, g.hi) < c.hmax + g.hmax ? w.near : w.far).push_back(ci);
+          (box_distance(c.lo, c.hi, g.lo, g.hi) < std::max(c.hmax + g.hmax, dmin) ? w.near : w.far).push_back(ci);
         } else {
           for (int k = c.nchild - 1; k >= 0; --k) w.stack.push_back(c.child + k);
         }
@@ -117,7 +125,9 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
           for (int q = 0; q < 6; ++q) b[(4 + q) * m + k] = static_cast<float>(nd.q[q] * im * il2);
         }
       }
-      // particles: far leaves whole; near leaves (other than the group) split per particle
+      // particles: far leaves whole; near leaves (other than the group) split per particle: far
+      // only if it cannot overlap a sink (distance to the box >= its radius plus the group's
+      // largest) and lies at least dmin from the box
       w.fpart.clear();
       w.npart.clear();
       for (std::uint32_t li : w.far)
@@ -129,8 +139,8 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
           continue;
         }
         for (std::uint32_t t = t0; t < t1; ++t) {
-          const double h = ph[t] + g.hmax;
-          (point_box_distance2(px[t], py[t], pz[t], g.lo, g.hi) < h * h ? w.npart : w.fpart).push_back(t);
+          const double h = ph[t] + g.hmax, d2 = point_box_distance2(px[t], py[t], pz[t], g.lo, g.hi);
+          (d2 < h * h || d2 < dmin2 ? w.npart : w.fpart).push_back(t);
         }
       }
       const std::size_t nf = w.fpart.size(), nn = w.npart.size();

@@ -31,7 +31,9 @@ struct GravityParams {
 struct TreeStats {
   std::size_t nodes = 0, leaves = 0, depth = 0;
   double cell_interactions = 0, particle_interactions = 0;  ///< per particle, mean
-  double near_interactions = 0;  ///< per particle, mean: the softened share of particle_interactions
+  /// per particle, mean: the share of particle_interactions evaluated with the spline kernel (the
+  /// group's own spheres and those that may overlap one of them)
+  double near_interactions = 0;
 };
 
 }  // namespace ssdem
