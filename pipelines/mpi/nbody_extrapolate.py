@@ -28,14 +28,21 @@ Model, per base step, for P ranks of n = N / P own spheres each (one core per ra
                                           the tree of all N (146 ns per sphere) from allgathered
                                           positions (32 B per sphere of the run), which stalled the
                                           wall at ~3.5 h beyond 64 ranks (--replicated)
-  messages  3 a + g m_h / B + 3 a (1 + log2 P)
+  messages  3 a + g m_h / B + 3 a (1 + log2 P) + P a_g / B
                                           three point-to-point halos (opened ghosts' state, levels,
                                           synchronised ghosts' velocities: m_h = 33 B per ghost and
                                           base step measured, 15 985 B for 486 ghosts; 145 B before
                                           the halos of the ghosts that changed) and three collectives
                                           (movers' allgather, which also carries the failure check
                                           inside gravity blocks since 2026-12-04, the mover check's
-                                          and the levels-changed allreduces; --collectives 4 before)
+                                          and the levels-changed allreduces; --collectives 4 before),
+                                          plus the movers' allgather's data beyond the movers
+                                          themselves (not counted: a handful per step on the
+                                          debris): P a_g, a_g the bytes every rank adds to it.
+                                          a_g = 0 since 2026-12-06 (a rank sends its failure-check
+                                          part only when it fails); before, every rank sent two
+                                          48 B records every base step (--ag 96), which the model
+                                          had left out (it counted that allgather's latency only)
   rows      r N / R                       the O(N) work a series row every R base steps leaves on
                                           rank 0; r = 0 since 2026-12-04 (exact sums over the
                                           ranks, no gather: 0.6 ms per row on 2 ranks for 8 217
@@ -69,6 +76,8 @@ ap.add_argument("--alpha", type=float, default=3.0, help="us per message (networ
 ap.add_argument("--bw", type=float, default=5.0, help="GB/s per rank (network bandwidth; assumed)")
 ap.add_argument("--collectives", type=float, default=3.0, help="collectives per base step")
 ap.add_argument("--mh", type=float, default=33.0, help="halo bytes per ghost and base step (measured)")
+ap.add_argument("--ag", type=float, default=0.0,
+                help="bytes every rank adds to the movers' allgather per base step (96 before 2026-12-06)")
 ap.add_argument("--row", type=float, default=0.0,
                 help="us per sphere per series row on rank 0 (0 since the exact-sum rows; 0.7 before)")
 ap.add_argument("--series-every", type=float, default=200.0, help="base steps per series row (output.series_every)")
@@ -96,7 +105,8 @@ for P in (64, 512, 4096):
         gather = e * ((let_b + 2 * 1.0 * args.N + P * m * 144) / (args.bw * 1e3) + (args.levels + 5) * lat)
     walk = e * args.w * 1e-3 * n
     grav = build + walk + gather
-    comm = 3 * args.alpha + g * args.mh / (args.bw * 1e3) + args.collectives * args.alpha * (1 + math.log2(P))
+    comm = (3 * args.alpha + g * args.mh / (args.bw * 1e3) + args.collectives * args.alpha * (1 + math.log2(P))
+            + P * args.ag / (args.bw * 1e3))
     rows_us = args.row * args.N / args.series_every
     tot = comp + grav + comm + rows_us
     wall_h = tot * 1e-6 * args.steps / 3600

@@ -47,11 +47,14 @@ constexpr std::uint64_t kVerdict = ~std::uint64_t{0};
 bool DomainSim::need_exchange() {
   const double t = exchange_distance(), g = cfg_.multirate ? 0.5 * skin_ : 0.0;
   // first the previous step's failure check (check_state), whose verdict this allgather carries
-  std::vector<Mover> mine{
-      Mover{kVerdict, {std::bit_cast<double>(pending_.bad_g), std::bit_cast<double>(pending_.bad_id), pending_.overlap},
-            0.0, comm_.rank},
-      Mover{kVerdict - 1, {std::bit_cast<double>(pending_.id_a), std::bit_cast<double>(pending_.id_b), 0.0}, 0.0,
-            comm_.rank}};
+  // (a rank's part only if it fails: parts_to_send)
+  std::vector<Mover> mine;
+  for (const Pending& p : parts_to_send()) {
+    mine.push_back(Mover{kVerdict, {std::bit_cast<double>(p.bad_g), std::bit_cast<double>(p.bad_id), p.overlap}, 0.0,
+                         comm_.rank});
+    mine.push_back(Mover{kVerdict - 1, {std::bit_cast<double>(p.id_a), std::bit_cast<double>(p.id_b), 0.0}, 0.0,
+                         comm_.rank});
+  }
   for (std::uint32_t i : own_)
     if ((sp_.x[i] - xex_[i]).squaredNorm() >= t * t)
       mine.push_back(Mover{gidx_[i], {sp_.x[i].x(), sp_.x[i].y(), sp_.x[i].z()}, sp_.s[i], comm_.rank});

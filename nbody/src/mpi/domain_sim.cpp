@@ -291,10 +291,17 @@ void DomainSim::check_state() {
   // movers allgather (need_exchange, before anything is computed from this state): one
   // collective per base step fewer. At block boundaries, where the driver writes, now.
   if (contacts_ && comm_.size > 1 && !at_gravity_boundary()) return;
-  verdict(comm_.gather(std::vector<Pending>{pending_}));
+  verdict(comm_.gather(parts_to_send()));
   // a verified state (the same steps on every rank: the decision is collective above)
   if (keep_every_ > 0 && at_gravity_boundary() && (!last_good_ || step_ >= last_good_->step + keep_every_))
     last_good_ = pack_local();
+}
+
+std::vector<DomainSim::Pending> DomainSim::parts_to_send() {
+  const bool fails = pending_.bad_g != ~std::uint64_t{0} || (contacts_ && pending_.overlap > cfg_.max_overlap_frac);
+  if (!fails) return {};
+  ++stats_.check_parts;
+  return {pending_};
 }
 
 void DomainSim::verdict(const std::vector<Pending>& all) {

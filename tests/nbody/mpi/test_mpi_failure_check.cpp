@@ -3,7 +3,9 @@
 /// against one rank, under mpirun -np 2 and -np 3 (label mpi). Inside a gravity block the ranks
 /// decide the check together at the next base step's movers allgather, so every rank must fail
 /// with the one-rank message (the worst overlapping pair's ids, or the first non-finite sphere in
-/// index order, and the step), at the one-rank step or one base step later.
+/// index order, and the step), at the one-rank step or one base step later. Only a failing rank
+/// sends its part: a healthy hot pile sends none over 300 steps (inside and at the ends of
+/// gravity blocks), a failing run at least one.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -45,6 +47,9 @@ void expect_failure_as_one_rank(const Spheres& sp, const SimConfig& cfg, int ste
   const Failure many = run_until_failure(d, steps);
   EXPECT_EQ(many.what, one.what) << "rank " << world().rank;
   EXPECT_TRUE(many.step == one.step || many.step == one.step + 1) << many.step << " vs " << one.step;
+  long long parts = d.stats().check_parts;
+  world().sum(&parts, 1);
+  EXPECT_GE(parts, 1);  // the failing rank's part travelled
   if (world().rank == 0)
     std::printf("%s: one rank fails at step %lld (%s); %d ranks at %lld\n", what, static_cast<long long>(one.step),
                 one.what.c_str(), world().size, static_cast<long long>(many.step));
@@ -81,4 +86,19 @@ TEST(MpiDomain, NonFiniteStateInsideAGravityBlockFailsWithTheOneRankMessage) {
   ASSERT_NE(one.what.find("non-finite"), std::string::npos) << "the one-rank run must fail non-finite: '" << one.what << "'";
   ASSERT_GT(one.step, 1) << "after the first step, inside the first gravity block";
   expect_failure_as_one_rank(sp, cfg, 500, one, "non-finite");
+}
+
+TEST(MpiDomain, AHealthyRunSendsNoFailureCheckParts) {
+  // A hot pile (contacts, overlaps well below the limit, a gravity block of 7 steps): the check
+  // runs every step on every rank, and no rank has a part to send.
+  const Spheres sp = ssdem_test::hot_pile(0.75, 11);
+  SimConfig cfg = pile_config(sp, 2.0, true, false);
+  cfg.gravity_every = 7;
+  mpi::DomainSim d(world(), sp, cfg);
+  for (int k = 0; k < 300; ++k) d.step();
+  long long parts = d.stats().check_parts, movers = d.stats().mover_checks;
+  world().sum(&parts, 1);
+  world().sum(&movers, 1);
+  EXPECT_EQ(parts, 0);
+  if (world().rank == 0) std::printf("hot pile, 300 steps: %lld failure-check parts sent, %lld mover checks\n", parts, movers);
 }
