@@ -60,21 +60,20 @@ bool ContactSystem::isolated(const Spheres& sp, std::uint32_t i) const {
 }
 
 // The searches read the grids only, so they run first and on a team (in any order: the keys are
-// sorted by the caller); the margins are then given in ascending order as one loop of search and margin per sphere
-// would: a sphere with a pair within reach is not isolated; one that takes the margin has no
-// partner within s_i + s_j + k + M, so it is not found by the others' searches either way; and a
-// margin only widens its holder's reach, so a sphere that was not isolated before the margins of
-// this call is not isolated after them, and one that was is tested again only if an earlier
-// sphere of the call took a margin. Same pairs and margins with any thread count.
+// sorted by the caller); the margins are then given in ascending order as one loop of search and
+// margin per sphere would: a sphere with a pair within reach is not isolated; one that takes the
+// margin has no partner within s_i + s_j + k + M, so it is not found by the others' searches
+// either way; and a margin only widens its holder's reach, so a sphere that was not isolated
+// before the margins of this call is not isolated after them, and one that was is tested again
+// only if an earlier sphere of the call took a margin. Same pairs and margins with any thread
+// count.
 void ContactSystem::search_moved(const Spheres& sp, std::vector<std::uint64_t>& nk) {
   const std::size_t m = moved_.size();
   iso_.assign(m, 0);
   auto search = [&](std::size_t r, std::vector<std::uint64_t>& out) {
     const std::uint32_t i = moved_[r];
     const std::size_t before = out.size();
-    for_each_near(sp, i, [&](std::uint32_t j) {
-      out.push_back(i < j ? (std::uint64_t{i} << 32) | j : (std::uint64_t{j} << 32) | i);
-    });
+    for_each_near(sp, i, [&](std::uint32_t j) { out.push_back(grid::pair_key(i, j)); });
     if (margins_on_ && out.size() == before && isolated(sp, i)) iso_[r] = 1;
   };
   // A search reads 27-152 cells of tables and positions at scattered places: 1.5-3 us on the

@@ -28,6 +28,10 @@ inline std::uint64_t cell_key(std::int64_t cx, std::int64_t cy, std::int64_t cz)
   return (static_cast<std::uint64_t>(cx) << (2 * kCellBits)) |
          (static_cast<std::uint64_t>(cy) << kCellBits) | static_cast<std::uint64_t>(cz);
 }
+/// A pair's key in the list's order: the lower index in the high 32 bits.
+inline std::uint64_t pair_key(std::uint32_t i, std::uint32_t j) {
+  return i < j ? (std::uint64_t{i} << 32) | j : (std::uint64_t{j} << 32) | i;
+}
 /// Appends to keys the cells within `rings` (1 or 2) of cell key k (inside the key range), ring
 /// by ring (k, then the 26 around it, then the outer 98: a search that stops at the first sphere
 /// found, the isolation test, then rarely reads the outer ring), and prefetches their slots in t; returns the

@@ -133,17 +133,16 @@ bool ContactSystem::local_update(const Spheres& sp, bool all) {
   // partner within the larger reach either takes the margin (each isolation test sees the earlier
   // ones' margins: at the end every isolated sphere is still isolated); the searches on a team
   // (search_moved, pair_grid.cpp)
-  auto pkey = [](std::uint64_t a, std::uint64_t b) { return a < b ? (a << 32) | b : (b << 32) | a; };
   std::vector<std::uint64_t> nk;
   search_moved(sp, nk);
   if (drift_ && sched_.valid())
     for (std::uint32_t i : moved_) plan(sp, i);  // (new reference position, margin)
   std::vector<std::pair<std::uint64_t, std::uint32_t>> ok;  // listed pairs of M: key, index
   for (std::uint32_t i : moved_) {
-    for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+    for (std::uint32_t p = irow_[i]; p < irow_[i + 1]; ++p) ok.emplace_back(grid::pair_key(pi_[p], pj_[p]), p);
     for (std::uint32_t q = jrow_[i]; q < jrow_[i + 1]; ++q) {
       const std::uint32_t p = jpair_[q];
-      ok.emplace_back(pkey(pi_[p], pj_[p]), p);
+      ok.emplace_back(grid::pair_key(pi_[p], pj_[p]), p);
     }
   }
   std::sort(nk.begin(), nk.end());
