@@ -1,6 +1,6 @@
 /// @file gravity_kernels.hpp
-/// Inner loops of the tree walk (internal to the nbody library): one sink group (a subtree of at most `gravity.group` spheres)
-/// against its interaction lists, structure-of-arrays, equations in gravity.hpp. Each loop runs
+/// Inner loops of the tree walk (internal to the nbody library): one sink group (a subtree of at
+/// most `gravity.group` spheres) against its interaction lists, structure-of-arrays, equations in gravity.hpp. Each loop runs
 /// over the list with `omp simd` (a vector reduction per sink), and gravity_kernels.cpp (cells,
 /// far particles) and gravity_near_kernel.cpp (near particles) build every kernel for AVX-512,
 /// AVX2+FMA and the baseline ISA, chosen at load time by the CPU (GCC target_clones). The
@@ -9,10 +9,11 @@
 /// centre (as pkdgrav does for its interactions): one interaction is rounded to ~1e-7 x (group
 /// extent / distance), a list sum to ~1e-6, far below the tree's force error (~1e-3). The near
 /// list (overlapping, coincident and collapsed spheres, where separations may be 1e-9 of the
-/// group's extent) takes each pair's separation as a difference of doubles, rounded to float
-/// once (~6e-8 of the separation itself, whatever the group's extent), and evaluates the spline
-/// in single precision, in units of the group's largest radius (so that 1/h^3 stays far from
-/// the float range for any sphere size). Per-kernel sums are accumulated into double.
+/// group's extent) takes each pair's separation as a difference of doubles (which carry ~1e-16
+/// of the group's extent), rounded to float once, and evaluates the spline in single precision,
+/// in units of the group's largest radius (details in gravity_near_kernel.cpp); the walk keeps
+/// on it every source within 1e-3 of the group's extent of the group's box, so that the float
+/// lists' separations stay good to ~1e-4. Per-kernel sums are accumulated into double.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -10,7 +10,7 @@
 /// time (`sink_passes`, gravity_kernels.hpp).
 ///
 /// Until 2026-12-06 the whole loop ran in double: 8 lanes of double divisions and square roots
-/// against 16 of float. Rounding now: the separation to 6e-8 of itself, the pair force to
+/// against 16 of float. Rounding now: the separation to ~1e-7 of itself, the pair force to
 /// ~1e-6 (a handful of float operations), a sink's near sum to ~1e-6 of its terms' size: below
 /// the tree's 1e-3 by three orders (measured against direct summation in nbody/README.md).
 #include <cmath>

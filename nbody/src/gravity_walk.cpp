@@ -18,17 +18,9 @@
 
 namespace ssdem {
 namespace {
-// Distance between two axis-aligned boxes (0 if they overlap).
-double box_distance(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
-  const Vec3 d = (alo - bhi).cwiseMax(blo - ahi).cwiseMax(Vec3::Zero());
-  return d.norm();
-}
-// Squared distance from a point to an axis-aligned box (0 inside).
-double point_box_distance2(double x, double y, double z, const Vec3& lo, const Vec3& hi) {
-  const double dx = std::max({lo.x() - x, x - hi.x(), 0.0});
-  const double dy = std::max({lo.y() - y, y - hi.y(), 0.0});
-  const double dz = std::max({lo.z() - z, z - hi.z(), 0.0});
-  return dx * dx + dy * dy + dz * dz;
+// Squared distance between two axis-aligned boxes (0 if they overlap; a point is a box lo = hi).
+double box_distance2(const Vec3& alo, const Vec3& ahi, const Vec3& blo, const Vec3& bhi) {
+  return (alo - bhi).cwiseMax(blo - ahi).cwiseMax(Vec3::Zero()).squaredNorm();
 }
 // Per-thread gather buffers.
 struct Lists {
@@ -84,7 +76,7 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
       // the near list's double differences (so every separation is good to ~1e-4 of itself; a
       // close pair in a wide, sparse group, which before 2026-12-06 could lose percents or, at
       // 1e7 radii of extent, round to r = 0). In a pile the extent is ~16 radii: never binds.
-      const double dmin = 1e-3 * (g.hi - g.lo).norm(), dmin2 = dmin * dmin;
+      const double dmin = 1e-3 * (g.hi - g.lo).norm();
       w.cells.clear();
       w.far.clear();
       w.near.clear();
@@ -100,7 +92,8 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
         if (tree_accepts(c, g.lo, g.hi, g.hmax, itheta)) {
           w.cells.push_back(ci);
         } else if (c.child < 0) {
-          (box_distance(c.lo, c.hi, g.lo, g.hi) < std::max(c.hmax + g.hmax, dmin) ? w.near : w.far).push_back(ci);
+          const double reach = std::max(c.hmax + g.hmax, dmin);
+          (box_distance2(c.lo, c.hi, g.lo, g.hi) < reach * reach ? w.near : w.far).push_back(ci);
         } else {
           for (int k = c.nchild - 1; k >= 0; --k) w.stack.push_back(c.child + k);
         }
@@ -139,8 +132,9 @@ void walk(const Data& d, const GravityParams& p, const std::vector<std::uint32_t
           continue;
         }
         for (std::uint32_t t = t0; t < t1; ++t) {
-          const double h = ph[t] + g.hmax, d2 = point_box_distance2(px[t], py[t], pz[t], g.lo, g.hi);
-          (d2 < h * h || d2 < dmin2 ? w.npart : w.fpart).push_back(t);
+          const Vec3 x(px[t], py[t], pz[t]);
+          const double reach = std::max(ph[t] + g.hmax, dmin);
+          (box_distance2(x, x, g.lo, g.hi) < reach * reach ? w.npart : w.fpart).push_back(t);
         }
       }
       const std::size_t nf = w.fpart.size(), nn = w.npart.size();

@@ -72,7 +72,8 @@ int main(int argc, char** argv) {
       }
       std::printf("| %.2f | %d | %d | %.3f | %.0f | %.0f (%.0f) | %.2e | %.2e |\n", th, gp.bucket, gp.group,
                   1e6 * t[t.size() / 2] / static_cast<double>(sp.size()), tree.stats().cell_interactions,
-                  tree.stats().particle_interactions, tree.stats().near_interactions, std::sqrt(e2 / static_cast<double>(sp.size())), emax);
+                  tree.stats().particle_interactions, tree.stats().near_interactions,
+                  std::sqrt(e2 / static_cast<double>(sp.size())), emax);
       std::fflush(stdout);
     }
   return 0;

@@ -100,5 +100,6 @@ TEST(MpiDomain, AHealthyRunSendsNoFailureCheckParts) {
   world().sum(&parts, 1);
   world().sum(&movers, 1);
   EXPECT_EQ(parts, 0);
-  if (world().rank == 0) std::printf("hot pile, 300 steps: %lld failure-check parts sent, %lld mover checks\n", parts, movers);
+  if (world().rank == 0)
+    std::printf("hot pile, 300 steps: %lld failure-check parts sent, %lld mover checks\n", parts, movers);
 }
