@@ -94,6 +94,7 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
   // loads, and equal counts leave one thread waiting.
   const bool pair_team = use_team(P);
   pair_split_.begin(P, pair_team ? omp_get_max_threads() : 1);
+  if (kept_.size() < static_cast<std::size_t>(omp_get_max_threads())) kept_.resize(static_cast<std::size_t>(omp_get_max_threads()));
   in_team(pair_team, [&] {
     Worst lw;
     std::size_t lc = 0, lforeign = 0, lkernel = 0, lshared = 0;
@@ -101,44 +102,65 @@ ContactStats ContactSystem::compute_impl(const Spheres& sp, const std::vector<Ve
       ++lc;
       lw.offer(frac, pi_[p], pj_[p], p);
     };
-    // pairs that overlap or were in contact, kLanes at a time (pair_batch.hpp); a pair whose gap
-    // is open and that was not in contact has nothing to compute (no force, no history change)
-    std::uint32_t rows[kLanes];
-    double hs[kLanes];
-    std::uint8_t ws[kLanes];
-    const std::uint8_t* whole = sub && !sub->whole.empty() ? sub->whole.data() : nullptr;
-    int nl = 0;
+    // The pairs that overlap or were in contact, evaluated kLanes at a time (pair_batch.hpp); a
+    // pair whose gap is open and that was not in contact has nothing to compute (no force, no
+    // history change). Two passes: the positions q of the pairs to evaluate are listed without a
+    // branch per pair (in a resting remnant about half the listed pairs touch, in no order a
+    // branch predictor could learn), then packed in that order. The arrays are read through
+    // local pointers: the byte stores below may alias anything reached through a reference.
     const int tid = omp_get_thread_num(), nth = omp_get_num_threads();
     std::size_t q0, q1;
     pair_split_.block(P, tid, nth, q0, q1);
     const double t0 = nth > 1 ? omp_get_wtime() : 0.0;
-    for (std::size_t q = q0; q < q1; ++q) {
-      const std::uint32_t p = sub ? sub->pairs[q] : static_cast<std::uint32_t>(q);
-      const std::uint32_t i = pi_[p], j = pj_[p];
-      if (own && !own[i] && !own[j]) {  // both forces are other ranks' (set_owned)
-        ++lforeign;
-        continue;
-      }
-      const double reach = sp.s[i] + sp.s[j];
-      if (!ph_.active[p] && (sp.x[j] - sp.x[i]).squaredNorm() >= reach * reach) {
-        pD_[p] = 0.0;
-        if (pedge_[p]) {  // last evaluation's edge force: spent
-          pres_[p] = PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
-          pedge_[p] = 0;
+    std::vector<std::uint32_t>& kept = kept_[static_cast<std::size_t>(tid)].q;
+    if (kept.size() < q1 - q0) kept.resize(q1 - q0);
+    std::uint32_t* kq = kept.data();
+    std::size_t nk = 0;
+    {
+      const std::uint32_t* subp = sub ? sub->pairs.data() : nullptr;
+      const std::uint32_t* pi = pi_.data();
+      const std::uint32_t* pj = pj_.data();
+      const double* s = sp.s.data();
+      const Vec3* x = sp.x.data();
+      const std::uint8_t* act = ph_.active.data();
+      std::uint8_t* edge = pedge_.data();
+      double* D = pD_.data();
+      PairForces* res = pres_.data();
+      for (std::size_t q = q0; q < q1; ++q) {
+        const std::uint32_t p = subp ? subp[q] : static_cast<std::uint32_t>(q);
+        const std::uint32_t i = pi[p], j = pj[p];
+        if (own && !own[i] && !own[j]) {  // both forces are other ranks' (set_owned)
+          ++lforeign;
+          continue;
         }
-        continue;
-      }
-      ++lkernel;
-      if (own && !(own[i] && own[j])) ++lshared;
-      rows[nl] = p;
-      hs[nl] = sub ? sub->hpair[q] : h0;
-      ws[nl] = whole ? whole[q] : 1;
-      if (++nl == kLanes) {
-        pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
-        nl = 0;
+        const double reach = s[i] + s[j];
+        const Vec3 r = x[j] - x[i];
+        const bool keep = (act[p] != 0) | !(r.squaredNorm() >= reach * reach);
+        D[p] = 0.0;  // (an evaluated pair's is set by its evaluation)
+        if (edge[p] && !keep) {  // last evaluation's edge force: spent
+          res[p] = PairForces{Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+          edge[p] = 0;
+        }
+        if (own && keep && !(own[i] && own[j])) ++lshared;
+        kq[nk] = static_cast<std::uint32_t>(q);
+        nk += keep ? 1 : 0;
       }
     }
-    if (nl > 0) pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
+    lkernel = nk;
+    std::uint32_t rows[kLanes];
+    double hs[kLanes];
+    std::uint8_t ws[kLanes];
+    const std::uint8_t* whole = sub && !sub->whole.empty() ? sub->whole.data() : nullptr;
+    for (std::size_t k = 0; k < nk; k += kLanes) {
+      const int nl = static_cast<int>(std::min<std::size_t>(kLanes, nk - k));
+      for (int l = 0; l < nl; ++l) {
+        const std::uint32_t q = kq[k + static_cast<std::size_t>(l)];
+        rows[l] = sub ? sub->pairs[q] : q;
+        hs[l] = sub ? sub->hpair[q] : h0;
+        ws[l] = whole ? whole[q] : 1;
+      }
+      pair_batch::eval_pack<PARTS>(coeffs_, arr, rows, hs, whole ? ws : nullptr, nl, on_contact);
+    }
     if (nth > 1) pair_split_.record(tid, omp_get_wtime() - t0);
 #pragma omp critical(ssdem_contact_stats)
     {

@@ -315,6 +315,10 @@ class ContactSystem {
   const Drift* drift_ = nullptr;
   DriftSchedule sched_;
   LoopSplit pair_split_, sphere_split_;  ///< compute()'s team blocks (speed only, never results)
+  struct alignas(64) KeptPart {  // scratch of compute(): per thread, the positions of its pairs to evaluate
+    std::vector<std::uint32_t> q;
+  };
+  std::vector<KeptPart> kept_;
   std::vector<std::uint32_t> cand_;
   std::size_t rebuilds_ = 0, local_updates_ = 0, reinserts_ = 0, tests_ = 0;
   std::vector<std::uint64_t> waiting_;    // new pairs not merged yet (keys i << 32 | j, i < j, sorted)
