@@ -237,7 +237,9 @@ class ContactSystem {
     tests_ += before.tests_;
     promotions_ += before.promotions_;
   }
-  /// Bytes held per sphere by the contact system (pair list, history, CSR, cell grids), current sizes.
+  /// Bytes held per sphere by the contact system (pair list, history, CSR, cell grids), current
+  /// sizes; scratch kept between calls (compute()'s per-thread lists of 4 B per pair, the
+  /// searches' candidates) is not counted.
   double bytes_per_sphere(std::size_t n) const;
 
  private:
