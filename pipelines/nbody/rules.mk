@@ -1,7 +1,8 @@
 # ssdem-grav studies (issue 6). Targets:
 #   nbody-accuracy : rubble pile + two-body reaccumulation; energy and final-position error against
 #                    a reference run (small dt, theta = 0.2, gravity every step) across dt, opening
-#                    angle and gravity update interval, versus wall time (table + PNG)
+#                    angle, gravity update interval, the error-controlled cadence and multi-rate
+#                    steps, versus wall time (table + PNG)
 #   nbody-bench    : Google Benchmark, self-gravitating pile of 5e4 and 2e5 spheres, 1 and 2 threads
 #   nbody-collapse : 1e5 spheres collapsing from a cold cloud into one pile; checks exit code,
 #                    energy never created, half-mass radius against the cold collapse and shrinking
@@ -14,7 +15,7 @@ COLLAPSE_T ?= 1.3
 
 .PHONY: nbody-accuracy nbody-bench nbody-collapse nbody-collapse-smoke
 
-nbody-accuracy: ## ssdem-grav error vs wall time across dt, theta, gravity interval (table, PNG)
+nbody-accuracy: ## ssdem-grav error vs wall time across dt, theta, gravity interval, cadence, multi-rate (table, PNG)
 	cmake --build $(BUILD) --target ssdem-grav -j $(JOBS)
 	mkdir -p $(RUNS)/nbody-accuracy
 	$(PY) $(NBODY_DIR)/accuracy.py $(BUILD)/nbody/ssdem-grav $(RUNS)/nbody-accuracy
