@@ -143,7 +143,7 @@ void DomainSolver::migrate() {
     throw SolverFailure(os.str(), true);
   }
   const double before = comm_.bytes_sent;
-  const std::vector<std::vector<char>> recv = comm_.alltoallv(send);
+  const std::vector<std::vector<char>> recv = comm_.sparse(send);
   stats_.migrate_bytes += comm_.bytes_sent - before;
   stats_.migrated += sent;
   bool arrived = false;

@@ -90,11 +90,12 @@ void DomainSim::exchange() {
   halo_update();  // ghosts' current positions: routing of the history by partner position
   const std::vector<HistoryRecord> recs = owned_history();
   // rebalance when the largest domain exceeds the mean by the imbalance threshold
-  const std::vector<std::uint64_t> counts = comm_.gather(std::vector<std::uint64_t>{own_.size()});
-  const std::uint64_t total = std::accumulate(counts.begin(), counts.end(), std::uint64_t{0});
-  const std::uint64_t most = *std::max_element(counts.begin(), counts.end());
+  // (two reductions, not a gather of every rank's count; counts are exact in a double)
+  long long total = static_cast<long long>(own_.size());
+  comm_.sum(&total, 1);
+  const double most = comm_.max(static_cast<double>(own_.size()));
   const double mean = static_cast<double>(total) / comm_.size;
-  if (static_cast<double>(most) > (1.0 + imbalance_) * mean && static_cast<double>(most) - mean >= 1.0) {
+  if (most > (1.0 + imbalance_) * mean && most - mean >= 1.0) {
     std::vector<Vec3> mine;  // no rank gathers all positions: the cuts by collective selection
     mine.reserve(own_.size());
     for (std::uint32_t i : own_) mine.push_back(sp_.x[i]);
@@ -106,7 +107,7 @@ void DomainSim::exchange() {
   // migration: every owned sphere goes to the rank owning its position (itself included)
   std::vector<std::vector<char>> out(comm_.size);
   for (std::uint32_t i : own_) pack_owned(i, out[dest[i]]);
-  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  const std::vector<std::vector<char>> in = comm_.sparse(out);
   Owned own;
   for (const auto& b : in)
     for (std::size_t off = 0; off < b.size();) unpack_owned(b, off, own);
@@ -119,10 +120,10 @@ void DomainSim::exchange() {
     if (rb != ra) put(out[rb], r);
   }
   std::vector<HistoryRecord> got;
-  for (const auto& b : comm_.alltoallv(out))
+  for (const auto& b : comm_.sparse(out))
     for (std::size_t off = 0; off < b.size();) got.push_back(get<HistoryRecord>(b, off));
   if (nb_global_ > 0)  // bonds: the owner's record to the new owners of both ends (domain_bonds.cpp)
-    for (const auto& b : comm_.alltoallv(route_bonds(dest))) bonds_in_.insert(bonds_in_.end(), b.begin(), b.end());
+    for (const auto& b : comm_.sparse(route_bonds(dest))) bonds_in_.insert(bonds_in_.end(), b.begin(), b.end());
   stats_.bytes_exchange += comm_.bytes_sent - b0;
   ++stats_.exchanges;
   rebuild_local(std::move(own), got);
@@ -166,7 +167,7 @@ void DomainSim::rebuild_local(Owned own, const std::vector<HistoryRecord>& recs)
         sendg[r].push_back(own.g[k]);
       }
   const double b0 = comm_.bytes_sent;
-  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  const std::vector<std::vector<char>> in = comm_.sparse(out);
   stats_.bytes_exchange += comm_.bytes_sent - b0;
   Spheres gh;
   std::vector<std::uint64_t> ghg;

@@ -80,7 +80,7 @@ void DistributedTree::compute(const Spheres& sp, const std::vector<std::uint32_t
     std::memcpy(reply[back_src_[k]].data() + back_pos_[k] * rec, v, rec);
   }
   const double b0 = comm_.bytes_sent;
-  const std::vector<std::vector<char>> got = comm_.alltoallv(reply);
+  const std::vector<std::vector<char>> got = comm_.sparse(reply);
   st_.bytes_owners += comm_.bytes_sent - b0;
   for (int r = 0; r < comm_.size; ++r) {
     if (got[r].size() != sent[r].size() * rec)
@@ -252,7 +252,7 @@ std::vector<DistributedTree::GravityParticle> DistributedTree::to_owners(
     sent[r].push_back(i);
   }
   const double b0 = comm_.bytes_sent;
-  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  const std::vector<std::vector<char>> in = comm_.sparse(out);
   st_.bytes_owners += comm_.bytes_sent - b0;
   std::vector<GravityParticle> got;
   std::vector<std::uint32_t> src, pos;

@@ -191,7 +191,7 @@ void DistributedTree::exchange_let() {
     }
   }
   const double b0 = comm_.bytes_sent;
-  const std::vector<std::vector<char>> in = comm_.alltoallv(out);
+  const std::vector<std::vector<char>> in = comm_.sparse(out);
   st_.bytes_let += comm_.bytes_sent - b0;
   const std::uint32_t sentinel = static_cast<std::uint32_t>(gx_.size() - 1);
   for (int r = 0; r < comm_.size; ++r) {

@@ -2,15 +2,18 @@
 /// Thin helpers over MPI shared by the domain decompositions of ssdem-grav (nbody/src/mpi) and
 /// mpm-frag (mpm/src/mpi); MPI build only (SUITE_MPI=ON, target common_mpi: the serial build
 /// neither sees nor links it). Every exchange moves bytes of trivially copyable records:
-/// alltoallv, point-to-point halos of known sizes (neighbours), gather / allgather, exact
+/// alltoallv, a sparse exchange of unknown sizes (sparse), point-to-point halos of known sizes
+/// (neighbours), gather / allgather, exact
 /// reductions (max, integer sum), and put / get of plain
 /// values into byte buffers. The helpers count the bytes this rank sends (communication volume).
 /// Determinism: results are placed by sender rank, in the sender's order, never by arrival order.
 #pragma once
 #include <mpi.h>
 
+#include <climits>
 #include <cstdint>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -44,6 +47,64 @@ struct Comm {
     std::vector<char> rb(offsets(rc, rd));
     MPI_Alltoallv(sb.data(), sc.data(), sd.data(), MPI_BYTE, rb.data(), rc.data(), rd.data(), MPI_BYTE, c);
     return split(rb, rc, rd);
+  }
+
+  /// Byte buffers per destination rank -> byte buffers per source rank, as alltoallv (the same
+  /// result, placed by sender rank), for sparse patterns in which each rank sends to a few others
+  /// and no receiver knows who sends: the NBX protocol (Hoefler, Siebert & Lumsdaine 2010,
+  /// "Scalable communication protocols for dynamic sparse data exchange", PPoPP, section 3).
+  /// Synchronous sends (MPI_Issend) to the ranks with data; every message probed is received;
+  /// once this rank's sends are all matched it enters a non-blocking barrier, and when the barrier
+  /// completes every rank's sends have been received. Per rank O(its messages + log P), against
+  /// alltoallv's all-to-all of P counts (O(P) per rank and call, whatever the pattern). Two
+  /// alternating tags keep consecutive calls apart: a rank cannot run two calls ahead of another,
+  /// since the barrier of its next call needs the other's entry. Collective: every rank calls it,
+  /// the same number of times.
+  std::vector<std::vector<char>> sparse(const std::vector<std::vector<char>>& send) {
+    const int tag = kSparseTag + static_cast<int>(sparse_calls_++ & 1u);
+    std::vector<std::vector<char>> recv(size);
+    std::vector<MPI_Request> sends;
+    for (int r = 0; r < size; ++r) {
+      if (send[r].empty()) continue;
+      if (r == rank) {
+        recv[r] = send[r];
+        continue;
+      }
+      if (send[r].size() > static_cast<std::size_t>(INT_MAX))
+        throw std::length_error("common::mpi::Comm::sparse: a message of " + std::to_string(send[r].size()) +
+                                " bytes (at most INT_MAX)");
+      bytes_sent += static_cast<double>(send[r].size());
+      sends.emplace_back();
+      MPI_Issend(send[r].data(), static_cast<int>(send[r].size()), MPI_BYTE, r, tag, c, &sends.back());
+    }
+    MPI_Request barrier = MPI_REQUEST_NULL;
+    bool in_barrier = false;
+    for (;;) {
+      int flag = 0;
+      MPI_Message msg;
+      MPI_Status st;
+      MPI_Improbe(MPI_ANY_SOURCE, tag, c, &flag, &msg, &st);
+      if (flag) {  // (one message per sender and call)
+        int n = 0;
+        MPI_Get_count(&st, MPI_BYTE, &n);
+        std::vector<char>& b = recv[st.MPI_SOURCE];
+        b.resize(static_cast<std::size_t>(n));
+        MPI_Mrecv(b.data(), n, MPI_BYTE, &msg, MPI_STATUS_IGNORE);
+        continue;
+      }
+      int done = 0;
+      if (!in_barrier) {
+        MPI_Testall(static_cast<int>(sends.size()), sends.data(), &done, MPI_STATUSES_IGNORE);
+        if (done) {
+          MPI_Ibarrier(c, &barrier);
+          in_barrier = true;
+        }
+      } else {
+        MPI_Test(&barrier, &done, MPI_STATUS_IGNORE);
+        if (done) break;
+      }
+    }
+    return recv;
   }
 
   /// Byte buffers per destination rank -> byte buffers per source rank, where each receiver knows
@@ -122,7 +183,9 @@ struct Comm {
   }
 
  private:
-  static constexpr int kHaloTag = 7101;  ///< tag of neighbours() (collectives use no tags)
+  static constexpr int kHaloTag = 7101;    ///< tag of neighbours() (collectives use no tags)
+  static constexpr int kSparseTag = 7102;  ///< tags of sparse(): 7102 and 7103, alternating
+  unsigned sparse_calls_ = 0;
   /// Displacements rd of the counts rc; returns the total.
   static std::size_t offsets(const std::vector<int>& rc, std::vector<int>& rd) {
     std::size_t tot = 0;

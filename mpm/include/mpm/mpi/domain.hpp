@@ -21,7 +21,8 @@
 ///   1. migration (migrate.cpp): every particle whose cell left the owner's slab is sent, with ALL
 ///      its state (every ParticleSet array, ParticleSet::for_each_array, and every state array of
 ///      its material's style, Tonge–Ramesh included), to the owner of its cell (any rank, one
-///      alltoallv: debris crossing several slabs in one step is fine). Arrivals are appended per
+///      sparse exchange, Comm::sparse: debris crossing several slabs in one step is fine, and a
+///      rank exchanges messages only with the ranks it sends to or receives from). Arrivals are appended per
 ///      material after the kept particles, in (source rank, sender order): material ranges stay
 ///      contiguous and the order is a function of the state alone (deterministic). A particle
 ///      whose stencil leaves the global grid stops the run on every rank (SolverFailure, state

@@ -25,7 +25,7 @@
 ///  3. Gravity ownership: each group goes to the rank holding most of its spheres (one MAXLOC
 ///     allreduce over the groups; ties to the lower rank). The contact domains (ORB) are compact
 ///     boxes balanced by count, so the gravity work is balanced as they are and only the spheres
-///     of groups cut by a domain boundary travel to their group's owner (alltoallv, 52 B, and
+///     of groups cut by a domain boundary travel to their group's owner (Comm::sparse, 52 B, and
 ///     the acceleration back, 24 B, 32 B with the potential): measured 1-2 % of a rank's spheres.
 ///     At the owner a group's spheres are in global-index order (a counting sort by group).
 ///  4. Each rank builds its groups' subtrees (tree::build_subtree, the one-rank code) and the
@@ -41,7 +41,8 @@
 ///     accepted for a box is accepted for every box inside it with smaller radii), every cell a
 ///     group of r opens was opened here, so r's walk never lacks data (a cell it lacks holds NaN
 ///     and a leaf it lacks a NaN particle: a fault would surface as a non-finite acceleration,
-///     exit 3, never as a wrong force). One alltoallv.
+///     exit 3, never as a wrong force). One sparse exchange (Comm::sparse: messages to the ranks
+///     that need cells only, no all-to-all of counts).
 ///  6. Each rank walks its own groups (tree::walk) and returns the accelerations to the spheres'
 ///     contact owners.
 /// Cost per rank per evaluation: the LET import, O((N/P)^(2/3)) particles and cells near the
