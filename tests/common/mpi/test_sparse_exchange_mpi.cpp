@@ -2,9 +2,11 @@
 /// Comm::sparse (common/mpi_comm.hpp, the NBX sparse exchange) under mpirun -np 2 and -np 3: on
 /// random sparse patterns (each rank sending to some ranks, itself included, buffers of 0 bytes
 /// to 3 MB, every byte naming its sender, receiver, call and place) it returns on every rank
-/// exactly what alltoallv returns, and counts the same bytes sent; over many consecutive calls
-/// with one rank held back before some of them (the others run ahead into the next call, whose
-/// messages carry the other tag), over calls back to back, and when no rank sends anything.
+/// exactly what alltoallv returns, and counts the same bytes sent, with one rank held back before
+/// some calls; over calls back to back with nothing in between (a rank whose barrier completed
+/// first sends the next call's messages, which carry the other tag, while others may still probe
+/// in the previous call: with one tag this fails on 3 ranks); and when no rank sends anything.
+/// Failures are EXPECTs, so that a failing rank keeps making the collective calls of the others.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -54,9 +56,9 @@ TEST(SparseExchange, EqualsAlltoallvOnRandomPatterns) {
     const double before_dense = c.bytes_sent;
     const std::vector<std::vector<char>> want = c.alltoallv(send);
     const double dense_bytes = c.bytes_sent - before_dense;
-    ASSERT_EQ(got.size(), static_cast<std::size_t>(c.size));
-    for (int r = 0; r < c.size; ++r) {
-      ASSERT_EQ(got[r], want[r]) << "call " << k << ", from rank " << r << " on rank " << c.rank;
+    EXPECT_EQ(got.size(), static_cast<std::size_t>(c.size));
+    for (int r = 0; r < c.size && r < static_cast<int>(got.size()); ++r) {
+      EXPECT_EQ(got[r], want[r]) << "call " << k << ", from rank " << r << " on rank " << c.rank;
       messages += got[r].empty() ? 0 : 1;
       bytes += got[r].size();
     }
@@ -72,7 +74,7 @@ TEST(SparseExchange, NothingSentAndOnlyToSelf) {
   const std::vector<std::vector<char>> none(c.size);
   for (int k = 0; k < 5; ++k) {
     const std::vector<std::vector<char>> got = c.sparse(none);
-    ASSERT_EQ(got.size(), static_cast<std::size_t>(c.size));
+    EXPECT_EQ(got.size(), static_cast<std::size_t>(c.size));
     for (const auto& b : got) EXPECT_TRUE(b.empty());
   }
   std::vector<std::vector<char>> self(c.size);
@@ -101,6 +103,6 @@ TEST(SparseExchange, BackToBackCallsKeepApart) {
     for (auto& b : send)
       if (b.size() > 64) b.resize(64);
     const std::vector<std::vector<char>> want = c.alltoallv(send);
-    for (int r = 0; r < c.size; ++r) ASSERT_EQ(got[k][r], want[r]) << "call " << k << ", from rank " << r;
+    for (int r = 0; r < c.size; ++r) EXPECT_EQ(got[k][r], want[r]) << "call " << k << ", from rank " << r;
   }
 }

@@ -59,8 +59,15 @@ struct Comm {
   /// alltoallv's all-to-all of P counts (O(P) per rank and call, whatever the pattern). Two
   /// alternating tags keep consecutive calls apart: a rank cannot run two calls ahead of another,
   /// since the barrier of its next call needs the other's entry. Collective: every rank calls it,
-  /// the same number of times.
+  /// the same number of times, through one Comm object per MPI communicator (the tag counter is
+  /// the object's; calls through two objects on one communicator need a blocking collective
+  /// between them). The communication is O(messages + log P) per rank; the buffers per rank are
+  /// still P entries of local work. A message over INT_MAX bytes throws before anything is sent.
   std::vector<std::vector<char>> sparse(const std::vector<std::vector<char>>& send) {
+    for (int r = 0; r < size; ++r)
+      if (send[r].size() > static_cast<std::size_t>(INT_MAX))
+        throw std::length_error("common::mpi::Comm::sparse: a message of " + std::to_string(send[r].size()) +
+                                " bytes (at most INT_MAX)");
     const int tag = kSparseTag + static_cast<int>(sparse_calls_++ & 1u);
     std::vector<std::vector<char>> recv(size);
     std::vector<MPI_Request> sends;
@@ -70,9 +77,6 @@ struct Comm {
         recv[r] = send[r];
         continue;
       }
-      if (send[r].size() > static_cast<std::size_t>(INT_MAX))
-        throw std::length_error("common::mpi::Comm::sparse: a message of " + std::to_string(send[r].size()) +
-                                " bytes (at most INT_MAX)");
       bytes_sent += static_cast<double>(send[r].size());
       sends.emplace_back();
       MPI_Issend(send[r].data(), static_cast<int>(send[r].size()), MPI_BYTE, r, tag, c, &sends.back());
