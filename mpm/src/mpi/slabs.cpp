@@ -1,6 +1,7 @@
 /// @file slabs.cpp
 /// Slab decomposition of the background grid (mpm/mpi/domain.hpp): cuts balancing the particle
-/// count per rank,  P_r = min { P : sum_{c < P} n(c) >= r N / R }  with every slab at least W
+/// count per rank: with P* = min { P : sum_{c < P} n(c) >= r N / R }, the cut P_r is whichever of
+/// P* - 1 and P* leaves the cumulative count nearer r N / R (P* on a tie), every slab at least W
 /// planes wide, the owner of a cell, and the box (owned planes plus H ghost planes per side,
 /// clipped to the grid) a rank holds, and the memory that box and its particles need
 /// (DomainSolver::check_memory).
@@ -45,9 +46,18 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
   long long cum = 0;
   int c = 0;
   for (int r = 1; r < ranks; ++r) {
-    // smallest P with sum_{c < P} n(c) >= r N / R (integer test: R * cum >= r * N)
+    // smallest P with sum_{c < P} n(c) >= r N / R (integer test: R * cum >= r * N), then the
+    // nearer of it and P - 1: where one plane holds much of the count (a thin shocked shell on a
+    // coarse grid) the first crossing can overshoot the target by most of that plane
     while (c < planes && static_cast<__int128>(cum) * ranks < static_cast<__int128>(total) * r) cum += count[c++];
-    cut[r] = std::clamp(c, cut[r - 1] + min_width, planes - (ranks - r) * min_width);
+    int pick = c;
+    if (c > 0) {
+      const __int128 target = static_cast<__int128>(total) * r;
+      const __int128 over = static_cast<__int128>(cum) * ranks - target;
+      const __int128 under = target - static_cast<__int128>(cum - count[c - 1]) * ranks;
+      if (under < over) pick = c - 1;
+    }
+    cut[r] = std::clamp(pick, cut[r - 1] + min_width, planes - (ranks - r) * min_width);
   }
   return cut;
 }

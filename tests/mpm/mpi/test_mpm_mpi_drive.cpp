@@ -76,7 +76,7 @@ drive.velocity = [30.0, -3.0, 0.5]
 drive.ramp_time = 2e-5
 )");
 }
-constexpr double kEnd = 3e-4, U = 3.0, H = 0.01;
+constexpr double kEnd = 6e-4, U = 3.0, H = 0.01;
 
 
 TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {

@@ -5,10 +5,13 @@
 /// as the full set-up split by DomainSolver(comm, build_setup(scene)), bit for bit; and the
 /// bodies' totals (mass, centre of mass: exact bodies shifted and scaled over all their
 /// particles) and the drives' id ranges of the whole scene. Scene: a Tonge–Ramesh sphere and an
-/// elastic sphere (exact bodies, the default) and a driven platen.
+/// elastic sphere (exact bodies, the default) and a driven platen. And the cuts' rule
+/// (balanced_cuts): each cut is the plane boundary nearest its target.
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <random>
+#include <vector>
 
 #include "common/schema.hpp"
 #include "mpi_test_helpers.hpp"
@@ -231,3 +234,40 @@ TEST(MpmMpi, RebalancingThatWouldOverfillARankIsLeftOut) {
 }
 
 }  // namespace
+
+// The cuts (balanced_cuts, slabs.cpp): each is the plane boundary whose cumulative count is nearest
+// its target r N / R. A heavy plane just past the half (a thin shocked shell on a coarse grid):
+// counts 1 1 1 10 1 1 (N = 15) are cut before it (3 | 12), not after it (13 | 2, the first
+// crossing, the rule before 2026-12-07). For 2 ranks that is the cut with the smallest larger
+// slab: checked against every cut on random counts with heavy planes (the first-crossing rule
+// fails this). Uniform counts are cut evenly, a tie keeps the first crossing, the narrowest slab
+// binds, and with 3 ranks each cut takes its own nearest boundary.
+TEST(MpmMpiCuts, EachCutIsTheBoundaryNearestItsTarget) {
+  using V = std::vector<int>;
+  EXPECT_EQ(mpi::balanced_cuts({1, 1, 1, 10, 1, 1}, 2, 1), (V{0, 3, 6}));
+  EXPECT_EQ(mpi::balanced_cuts(std::vector<long long>(12, 5), 2, 1), (V{0, 6, 12}));
+  EXPECT_EQ(mpi::balanced_cuts(std::vector<long long>(12, 5), 3, 1), (V{0, 4, 8, 12}));
+  EXPECT_EQ(mpi::balanced_cuts({1, 4, 1, 4}, 2, 1), (V{0, 2, 4}));              // 5 | 5
+  EXPECT_EQ(mpi::balanced_cuts({2, 2, 2, 2, 2}, 2, 1), (V{0, 3, 5}));           // 6 | 4 or 4 | 6: the first
+  EXPECT_EQ(mpi::balanced_cuts({10, 1, 1, 1, 1, 1, 1, 1}, 2, 3), (V{0, 3, 8}));  // nearest is 1: W = 3 binds
+  std::vector<long long> c(30, 1);  // N = 108, targets 36 and 72: 49 | 9 | 50
+  c[9] = c[19] = 40;
+  EXPECT_EQ(mpi::balanced_cuts(c, 3, 2), (V{0, 10, 19, 30}));
+  std::mt19937_64 rng(5);
+  for (int k = 0; k < 500; ++k) {
+    const int planes = 4 + static_cast<int>(rng() % 20);
+    std::vector<long long> n(static_cast<std::size_t>(planes));
+    for (auto& v : n) v = rng() % 7 == 0 ? static_cast<long long>(rng() % 1000) : static_cast<long long>(rng() % 20);
+    long long total = 0;
+    for (long long v : n) total += v;
+    long long best = total, left = 0;
+    for (int P = 1; P < planes; ++P) {
+      left += n[static_cast<std::size_t>(P - 1)];
+      best = std::min(best, std::max(left, total - left));
+    }
+    const V cut = mpi::balanced_cuts(n, 2, 1);
+    long long got = 0;
+    for (int q = 0; q < cut[1]; ++q) got += n[static_cast<std::size_t>(q)];
+    EXPECT_EQ(std::max(got, total - got), best) << "case " << k;
+  }
+}

@@ -88,7 +88,8 @@ struct Slabs {
 };
 
 /// Cuts for `ranks` slabs of `planes` node planes balancing the counts n(c) (size planes), each
-/// slab at least `min_width` planes. Throws common::InputError when planes < ranks * min_width.
+/// cut the plane boundary whose cumulative count is nearest its target r N / R, each slab at
+/// least `min_width` planes. Throws common::InputError when planes < ranks * min_width.
 std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, int min_width);
 
 /// Options of the decomposition.
