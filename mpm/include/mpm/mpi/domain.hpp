@@ -8,8 +8,11 @@
 /// The grid (S_x x S_y x S_z nodes, global indices) is cut along its longest axis a into R slabs
 /// of node planes: rank r OWNS the planes [P_r, P_{r+1}), P_0 = 0, P_R = S_a, and the particles
 /// whose cell c_p = floor((x_p,a - o_a) / h_a) lies in [P_r, P_{r+1}). The cuts balance the
-/// particle count: with n(c) particles in cell c and N = sum n,
-///   P_r = min { P : sum_{c < P} n(c) >= r N / R },  clamped so that P_{r+1} - P_r >= W.
+/// particle count: with n(c) particles in cell c, N = sum n and S(P) = sum_{c < P} n(c),
+///   P* = min { P : S(P) >= r N / R },  P_r = P* - 1 if r N / R - S(P* - 1) < S(P*) - r N / R
+///   else P*  (the boundary nearest the target),  clamped so that P_{r+1} - P_r >= W.
+/// For R = 2 this minimises the larger slab; for R >= 3 each cut is nearest its own target,
+/// which bounds every slab within one plane's count of N / R but is not always the optimum.
 /// A uGIMP particle of cell c touches nodes c-1 .. c+2 on that axis (shape_functions.hpp; linear:
 /// c .. c+1), so rank r HOLDS the box [P_r - H, P_{r+1} + H) clipped to the grid, H = 2 ghost
 /// planes on each side, and the whole grid on the other two axes. With W = max(2H, 2g + 1 - H)
