@@ -89,20 +89,20 @@ TEST(SparseExchange, NothingSentAndOnlyToSelf) {
 TEST(SparseExchange, BackToBackCallsKeepApart) {
   common::mpi::Comm& c = world();
   const int calls = 300;
+  // small buffers to nearly everyone (no large one): calls short enough to overlap
+  auto small = [&](int k) {
+    std::vector<std::vector<char>> send = pattern(c.rank, c.size, 100 + k, 0.9);
+    for (auto& b : send)
+      if (b.size() > 64) b.resize(64);
+    return send;
+  };
   std::vector<std::vector<std::vector<char>>> got;
   for (int k = 0; k < calls; ++k) {
     if (k % 50 == 17 && c.rank == c.size - 1) std::this_thread::sleep_for(std::chrono::milliseconds(5));
-    // small buffers to everyone (no large one): calls short enough to overlap
-    std::vector<std::vector<char>> send = pattern(c.rank, c.size, 100 + k, 0.9);
-    for (auto& b : send)
-      if (b.size() > 64) b.resize(64);
-    got.push_back(c.sparse(send));
+    got.push_back(c.sparse(small(k)));
   }
   for (int k = 0; k < calls; ++k) {
-    std::vector<std::vector<char>> send = pattern(c.rank, c.size, 100 + k, 0.9);
-    for (auto& b : send)
-      if (b.size() > 64) b.resize(64);
-    const std::vector<std::vector<char>> want = c.alltoallv(send);
+    const std::vector<std::vector<char>> want = c.alltoallv(small(k));
     for (int r = 0; r < c.size; ++r) EXPECT_EQ(got[k][r], want[r]) << "call " << k << ", from rank " << r;
   }
 }
