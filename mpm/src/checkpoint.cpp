@@ -238,7 +238,10 @@ void apply_materials(const Checkpoint& ck, std::vector<MaterialSlot>& mats, cons
     const MaterialState& c = ck.materials[m];
     if (c.name != s.name)
       throw common::InputError(path + ": material " + std::to_string(m) + " is '" + c.name + "', the scene's '" + s.name + "'");
-    if (c.fields.size() != s.style->state_fields.size())
+    // a cost-weight field (StateField::work) may be missing: a checkpoint from before it existed
+    std::size_t need = 0;
+    for (const StateField& sf : s.style->state_fields) need += sf.work > 0.0 ? 0 : 1;
+    if (c.fields.size() < need || c.fields.size() > s.style->state_fields.size())
       throw common::InputError(path + ": material '" + s.name + "' has " + std::to_string(c.fields.size()) +
                                " state fields, its style " + std::to_string(s.style->state_fields.size()));
     s.begin = c.begin;
@@ -247,6 +250,10 @@ void apply_materials(const Checkpoint& ck, std::vector<MaterialSlot>& mats, cons
     for (std::size_t k = 0; k < s.state.size(); ++k) {
       const StateField& sf = s.style->state_fields[k];
       auto it = std::find_if(c.fields.begin(), c.fields.end(), [&](const auto& p) { return p.first == sf.name; });
+      if (it == c.fields.end() && sf.work > 0.0) {
+        s.state[k].assign((c.end - c.begin) * static_cast<std::size_t>(sf.ncomp), sf.initial);
+        continue;
+      }
       if (it == c.fields.end() || it->second.size() != (c.end - c.begin) * static_cast<std::size_t>(sf.ncomp))
         throw common::InputError(path + ": material '" + s.name + "': state field '" + sf.name +
                                  "' missing or of the wrong size");

@@ -13,6 +13,9 @@ namespace mpmfrag {
 
 void MaterialRegistry::add(StyleInfo info) {
   if (styles_.count(info.name)) throw std::invalid_argument("material style '" + info.name + "' registered twice");
+  for (const StateField& f : info.state_fields)
+    if (f.work > 0.0 && f.ncomp != 1)  // work_weights reads one value per particle
+      throw std::invalid_argument("material style '" + info.name + "': cost field '" + f.name + "' must have one component");
   std::string key = info.name;
   styles_.emplace(std::move(key), std::move(info));
 }

@@ -8,8 +8,11 @@
 ///  - a completed run continued to a later time.end from its published checkpoint;
 /// each ends with every snapshot, the outflow record and the series equal to an uninterrupted
 /// run's (every dataset bit for bit; provenance aside). A checkpoint of another run (another
-/// density) is refused with exit 2 naming the key.
+/// density) is refused with exit 2 naming the key. A checkpoint from before the Tonge–Ramesh cost
+/// field (damage_substeps, StateField::work) existed restarts, bit-identically on one rank; one
+/// without a physics field (damage) is refused naming it.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -285,4 +288,37 @@ TEST_F(MpmRestart, CheckpointOfAnotherRunIsRefused) {
   const testutil::ToolResult s = mpm("--scene " + scene_ + " --set " + dir_set(out) + " --restart " + out + "/ck_000000.h5");
   EXPECT_EQ(s.rc, 2) << s.out;
   EXPECT_NE(s.out.find("not an mpm-frag checkpoint"), std::string::npos) << s.out;
+}
+
+namespace {
+/// Copy `from` to `to` without the state field `name` of every material that has it; returns
+/// how many datasets were removed.
+int copy_without_field(const std::string& from, const std::string& to, const std::string& name) {
+  fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+  const hid_t f = H5Fopen(to.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  int removed = 0;
+  for (int m = 0; m < 8; ++m) {
+    const std::string ds = "/mpm_state/materials/" + std::to_string(m) + "/" + name;
+    if (H5Lexists(f, ("/mpm_state/materials/" + std::to_string(m)).c_str(), H5P_DEFAULT) > 0 &&
+        H5Lexists(f, ds.c_str(), H5P_DEFAULT) > 0 && H5Ldelete(f, ds.c_str(), H5P_DEFAULT) >= 0)
+      ++removed;
+  }
+  H5Fclose(f);
+  return removed;
+}
+}  // namespace
+
+TEST_F(MpmRestart, CheckpointWithoutTheCostFieldRestartsOneWithoutDamageIsRefused) {
+  testutil::TempDir d;
+  const std::string out = d.file("o");
+  ASSERT_EQ(mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --set time.end=1e-4").rc, 0);
+  const std::string old = d.file("old.h5"), broken = d.file("broken.h5");
+  ASSERT_EQ(copy_without_field(out + "/ck_checkpoint.h5", old, "damage_substeps"), 1);
+  ASSERT_EQ(copy_without_field(out + "/ck_checkpoint.h5", broken, "damage"), 1);
+  const testutil::ToolResult b = mpm("--scene " + scene_ + " --set " + dir_set(out) + " --restart " + broken);
+  EXPECT_EQ(b.rc, 2) << b.out;
+  EXPECT_NE(b.out.find("state field 'damage' missing"), std::string::npos) << b.out;
+  const testutil::ToolResult r = mpm("--quiet --scene " + scene_ + " --set " + dir_set(out) + " --restart " + old);
+  ASSERT_EQ(r.rc, 0) << r.out;
+  expect_same_run(ref_, out);  // the field weighs MPI cuts only: one rank continues bit for bit
 }

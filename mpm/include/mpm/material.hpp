@@ -89,6 +89,12 @@ struct StateField {
   double initial = 0.0;     ///< initial value of every component
   bool output = true;       ///< written to particle snapshots
   std::string description;  ///< one line for the HDF5 `description` attribute
+  /// > 0: a cost weight, not physics. The field (one component) holds a count from the last
+  /// update, each unit of which costs `work` times a plain particle-step (the grid transfers of
+  /// one particle, P2G + G2P); the MPI decomposition balances sum_p (1 + work s_p) per rank
+  /// (mpm/mpi/domain.hpp). A checkpoint without it (written before the field existed) restarts
+  /// with `initial`.
+  double work = 0.0;
 };
 
 /// A view of `n` consecutive particles of one material (all pointers offset to the first).

@@ -84,8 +84,9 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layo
       throw common::InputError("checkpoint: /mpm_state/mpi cuts do not split this scene's grid into slabs of at least " +
                                std::to_string(slabs_.min_width) + " planes");
   } else {
-    std::vector<long long> count(grid_.shape[slabs_.axis], 0);
-    for (std::size_t p = 0; p < n; ++p) ++count[cell(ps.x[3 * p + slabs_.axis])];
+    std::vector<long long> count(grid_.shape[slabs_.axis], 0);  // the work per plane (work_weights)
+    const std::vector<long long> w = work_weights(ps, setup.materials);
+    for (std::size_t p = 0; p < n; ++p) count[cell(ps.x[3 * p + slabs_.axis])] += w[p];
     comm_.sum(count.data(), static_cast<int>(count.size()));
     slabs_.cut = balanced_cuts(count, comm_.size, slabs_.min_width);
   }

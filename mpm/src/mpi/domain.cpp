@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 
 #include "common/status.hpp"
@@ -159,24 +158,36 @@ void DomainSolver::migrate() {
 }
 
 std::vector<long long> DomainSolver::histogram() const {
+  // per plane: the work (work_weights) in [0, S_a), the particle count in [S_a, 2 S_a)
   const ParticleSet& ps = solver_->particles();
-  std::vector<long long> count(grid_.shape[slabs_.axis], 0);
-  for (std::size_t p = 0; p < ps.size(); ++p) ++count[cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])];
-  return count;
+  const std::size_t planes = static_cast<std::size_t>(grid_.shape[slabs_.axis]);
+  const std::vector<long long> w = work_weights(ps, solver_->materials());
+  std::vector<long long> hist(2 * planes, 0);
+  for (std::size_t p = 0; p < ps.size(); ++p) {
+    const std::size_t c = static_cast<std::size_t>(cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis]));
+    hist[c] += w[p];
+    ++hist[planes + c];
+  }
+  return hist;
 }
 
 double DomainSolver::imbalance() {
-  const double n = static_cast<double>(solver_->particles().size());
-  const std::vector<double> all = comm_.allgather(&n, 1);
-  const double mx = *std::max_element(all.begin(), all.end());
-  const double mean = std::accumulate(all.begin(), all.end(), 0.0) / comm_.size;
-  return mean > 0.0 ? mx / mean : 1.0;
+  const std::vector<long long> w = work_weights(solver_->particles(), solver_->materials());
+  long long total = 0;
+  for (const long long x : w) total += x;
+  long long mx = total;  // integer reductions: exact, the same on every rank
+  MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_LONG_LONG, MPI_MAX, comm_.c);
+  comm_.sum(&total, 1);
+  return total > 0 ? static_cast<double>(mx) * comm_.size / static_cast<double>(total) : 1.0;
 }
 
 void DomainSolver::rebalance() {
-  std::vector<long long> count = histogram();
-  comm_.sum(count.data(), static_cast<int>(count.size()));
-  const std::vector<int> cut = balanced_cuts(count, comm_.size, slabs_.min_width);
+  std::vector<long long> hist = histogram();
+  comm_.sum(hist.data(), static_cast<int>(hist.size()));
+  const std::size_t planes = hist.size() / 2;
+  const std::vector<long long> work(hist.begin(), hist.begin() + static_cast<std::ptrdiff_t>(planes));
+  const long long* count = hist.data() + planes;
+  const std::vector<int> cut = balanced_cuts(work, comm_.size, slabs_.min_width);
   if (cut != slabs_.cut) {
     // every rank's new box and particles must fit its memory (DomainSolver::check_memory's
     // rule; the particle bytes at this rank's current mean per particle), else keep the cuts
@@ -218,7 +229,15 @@ void DomainSolver::step(double dt) {
       throw SolverFailure(os.str(), true);
     }
   }
-  if (opt_.rebalance_every > 0 && k > 0 && k % opt_.rebalance_every == 0 && imbalance() > opt_.imbalance_threshold)
+  bool due = false;
+  if (opt_.rebalance_every > 0 && k > 0 && k % opt_.rebalance_every == 0) {
+    const double I = imbalance();
+    stats_.imbalance_max = std::max(stats_.imbalance_max, I);
+    stats_.imbalance_sum += I;
+    ++stats_.imbalance_checks;
+    due = I > opt_.imbalance_threshold;
+  }
+  if (due)
     rebalance();
   else
     migrate();

@@ -272,8 +272,11 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
                sum.steps, sum.time, sum.wall_s, size, omp_get_max_threads(),
                sum.wall_s * 1e6 / (static_cast<double>(sum.particles) * std::max<std::int64_t>(1, sum.steps)));
   spdlog::info("communication: halo {:.3g} MB, migration and gathers {:.3g} MB, {} particle moves, {} rebalancings "
-               "({} left out for memory)",
-               c[0] / 1e6, c[1] / 1e6, static_cast<long long>(c[2]), s.rebalances, s.rebalances_skipped);
+               "({} left out for memory); work imbalance max W_r / mean W_r before rebalancing: mean {:.3f}, "
+               "largest {:.3f} over {} checks",
+               c[0] / 1e6, c[1] / 1e6, static_cast<long long>(c[2]), s.rebalances, s.rebalances_skipped,
+               s.imbalance_checks > 0 ? s.imbalance_sum / static_cast<double>(s.imbalance_checks) : 1.0,
+               s.imbalance_checks > 0 ? s.imbalance_max : 1.0, s.imbalance_checks);
   spdlog::info("energy: E0 = {:.6g} J, E = {:.6g} J, change {:+.3f} %; mass {:.9g} kg (initial {:.9g})", E0,
                sum.final.total(), E0 != 0 ? 100 * (sum.final.total() - E0) / std::fabs(E0) : 0.0, sum.final.mass,
                sum.initial.mass);

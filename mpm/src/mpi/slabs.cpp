@@ -6,6 +6,7 @@
 /// clipped to the grid) a rank holds, and the memory that box and its particles need
 /// (DomainSolver::check_memory).
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -62,6 +63,20 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
   return cut;
 }
 
+std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
+  std::vector<long long> w(ps.size(), kWorkUnit);
+  for (const MaterialSlot& m : mats)
+    for (std::size_t f = 0; f < m.style->state_fields.size(); ++f) {
+      const StateField& sf = m.style->state_fields[f];
+      if (!(sf.work > 0.0)) continue;
+      const double* s = m.state[f].data();  // one component (StateField::work)
+      for (std::size_t p = m.begin; p < m.end; ++p)
+        if (const double v = s[p - m.begin]; v > 0.0)  // NaN and negative: 0
+          w[p] += std::llround(static_cast<double>(kWorkUnit) * sf.work * std::min(v, 1e9));
+    }
+  return w;
+}
+
 DomainSolver::MemoryRatio DomainSolver::memory_ratio(double nodes, double bytes) const {
   MemoryRatio m;
   const double need = 88.0 * nodes + bytes;  // process_bytes' grid term
@@ -100,8 +115,8 @@ void DomainSolver::check_memory(const std::vector<MaterialSlot>& mats) const {
   char buf[640];
   std::snprintf(buf, sizeof buf,
                 "grid.cell_size: MPI rank %d's slab, node planes [%d, %d) of %d along axis %d with up to %d ghost "
-                "planes a side (the slabs balance particles, so a rank beside empty space holds more than its share of the "
-                "grid), holds %.3g grid nodes and %.3g particles: %.3g GB, its node's ranks together %.3g GB; this "
+                "planes a side (the slabs balance particles or work, so a rank beside empty space holds more than its share "
+                "of the grid), holds %.3g grid nodes and %.3g particles: %.3g GB, its node's ranks together %.3g GB; this "
                 "process may use %.3g GB and the node offers %.3g GB. Use more ranks, fewer ranks per node, a "
                 "smaller [grid] domain or a coarser cell_size",
                 worst, slabs_.cut[worst], slabs_.cut[worst + 1], grid_.shape[slabs_.axis], slabs_.axis,

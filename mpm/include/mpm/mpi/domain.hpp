@@ -7,8 +7,9 @@
 /// ## Decomposition (slabs.cpp)
 /// The grid (S_x x S_y x S_z nodes, global indices) is cut along its longest axis a into R slabs
 /// of node planes: rank r OWNS the planes [P_r, P_{r+1}), P_0 = 0, P_R = S_a, and the particles
-/// whose cell c_p = floor((x_p,a - o_a) / h_a) lies in [P_r, P_{r+1}). The cuts balance the
-/// particle count: with n(c) particles in cell c, N = sum n and S(P) = sum_{c < P} n(c),
+/// whose cell c_p = floor((x_p,a - o_a) / h_a) lies in [P_r, P_{r+1}). The set-up's cuts balance
+/// the particle count (rebalancing and a restart on another rank count the work, 2. below): with
+/// n(c) particles in cell c, N = sum n and S(P) = sum_{c < P} n(c),
 ///   P* = min { P : S(P) >= r N / R },  P_r = P* - 1 if r N / R - S(P* - 1) < S(P*) - r N / R
 ///   else P*  (the boundary nearest the target),  clamped so that P_{r+1} - P_r >= W.
 /// For R = 2 this minimises the larger slab; for R >= 3 each cut is nearest its own target,
@@ -31,8 +32,12 @@
 ///      whose stencil leaves the global grid stops the run on every rank (SolverFailure, state
 ///      intact); with outflow removal (grid.outflow = "remove") it goes to the owner of its clamped
 ///      cell, whose Solver removes it in the step and keeps its record (outflow_mpi.cpp).
-///   2. every `rebalance_every` steps: imbalance I = max_r N_r / mean_r N_r; if I > threshold the
-///      cuts are recomputed from the global histogram n(c) (an integer allreduce: exact), each
+///   2. every `rebalance_every` steps (default every step): imbalance I = max_r W_r / mean_r W_r
+///      of the ranks' work W_r = sum_p w_p (work_weights: a plain particle 1, a Tonge-Ramesh
+///      particle 1 + 0.6 M with M its last update's damage sub-steps, in integer units); if
+///      I > threshold the cuts are
+///      recomputed as above from the global histogram of work w(c) instead of n(c) (an integer
+///      allreduce: exact; the set-up's cuts, before any update, count particles), each
 ///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.); unless
 ///      a rank's new box and particles would not fit its memory (memory_ratio): then the cuts
 ///      stay (DomainStats::rebalances_skipped).
@@ -95,10 +100,23 @@ struct Slabs {
 /// least `min_width` planes. Throws common::InputError when planes < ranks * min_width.
 std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, int min_width);
 
+/// Integer units of work per plain particle-step (work_weights).
+inline constexpr long long kWorkUnit = 64;
+
+/// Each particle's work weight w_p = kWorkUnit + sum_f round(kWorkUnit work_f min(s_{f,p}, 1e9))
+/// over the cost fields f of its material's style (StateField::work > 0, one component; a
+/// negative or NaN value counts 0; e.g. Tonge-Ramesh's damage sub-steps, whose shocked particles
+/// cost up to 1 + 0.6 x 2 000 plain ones): exact integer sums, a function of the state alone
+/// (deterministic cuts). kWorkUnit for every particle of a style without them.
+std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<MaterialSlot>& mats);
+
 /// Options of the decomposition.
 struct DomainOptions {
-  int rebalance_every = 10;        ///< steps between imbalance checks (0: never rebalance)
-  double imbalance_threshold = 1.2; ///< rebalance when max N_r / mean N_r exceeds this
+  /// Steps between imbalance checks (0: never rebalance). A check costs one pass over the
+  /// particles and two integer reductions; every step, because a shock moves the Tonge-Ramesh
+  /// work between slabs within a few steps (mpm/README.md, MPI).
+  int rebalance_every = 1;
+  double imbalance_threshold = 1.2; ///< rebalance when max W_r / mean W_r exceeds this
   /// The memory a rank and a node offer (bytes; < 0: process_memory_limit(), node_memory()),
   /// checked against each rank's box and particles before its grid is allocated (tests set them).
   double process_memory = -1, node_memory = -1;
@@ -109,6 +127,9 @@ struct DomainStats {
   long long migrated = 0;     ///< particles this rank sent away
   long long rebalances = 0;   ///< rebalancings (same on every rank)
   long long rebalances_skipped = 0;  ///< rebalancings left out: a rank's new slab would not fit its memory
+  double imbalance_max = 0;   ///< largest work imbalance max W_r / mean W_r seen at a check (before rebalancing)
+  double imbalance_sum = 0;   ///< its sum over the checks
+  long long imbalance_checks = 0;  ///< checks (same on every rank)
   double halo_bytes = 0;      ///< bytes sent in halo swaps
   double migrate_bytes = 0;   ///< bytes sent in migration (and gathers)
 };
@@ -207,8 +228,10 @@ class DomainSolver {
   /// particles and materials' state (file rows [layout.first, ...), in file order; any split of
   /// the rows over the ranks, one rank holding all included). When `layout` says the file was
   /// written on as many ranks, every rank gets its particles back in their order and the cuts
-  /// are the layout's; otherwise the cuts balance the particle count and each rank keeps the file
-  /// order. Collective. Follow with local().resume(), not initialize().
+  /// are the layout's; otherwise the cuts balance the work (work_weights) and each rank keeps the file
+  /// order (a rank whose slab by work would not fit its memory stops the restart with the
+  /// set-up's message, check_memory; unlike a rebalancing, no fallback to the count's cuts).
+  /// Collective. Follow with local().resume(), not initialize().
   DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt = {});
   /// Initial stress and wave speeds (collective).
   void initialize() { solver_->initialize(); }
@@ -228,9 +251,9 @@ class DomainSolver {
   OutflowRecord local_outflow();
   /// Every rank's outflow record on `root` (empty elsewhere; collective).
   OutflowRecord gather_outflow(int root);
-  /// Imbalance max_r N_r / mean_r N_r (collective).
+  /// Imbalance max_r W_r / mean_r W_r of the ranks' work (work_weights; collective).
   double imbalance();
-  /// Recompute the cuts from the particle histogram and migrate (collective).
+  /// Recompute the cuts from the histogram of work and migrate (collective).
   void rebalance();
 
   Solver& local() { return *solver_; }
@@ -249,6 +272,7 @@ class DomainSolver {
  private:
   /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
   void migrate();
+  /// This rank's work per plane of the split axis in [0, S_a), its particles per plane in [S_a, 2 S_a).
   std::vector<long long> histogram() const;
   void init_slabs(const Setup& setup);
   void build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats);

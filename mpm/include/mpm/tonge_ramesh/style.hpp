@@ -22,7 +22,8 @@ void register_tonge_ramesh(MaterialRegistry& reg);
 std::unique_ptr<Material> make_tonge_ramesh(const tonge_ramesh::Params& p);
 
 /// The style's state fields in order (damage, distension, iel, granular_strain, granular_energy,
-/// localized, flaw_density[50], flaw_size[50], wing_length[50]).
+/// localized, flaw_density[50], flaw_size[50], wing_length[50], damage_substeps: the cost field
+/// of the MPI cuts, StateField::work).
 std::vector<StateField> tonge_ramesh_state_fields();
 
 }  // namespace mpmfrag
