@@ -286,7 +286,7 @@ int run_ssdem_mpi(const common::Scene& sc, const common::Provenance& prov, const
      << " s; bytes per own sphere " << sim->bytes_per_owned_sphere();
   if (cfg.multirate)
     os << "; multi-rate equalisation rounds " << ds.level_rounds << " in " << ds.steps << " base steps";
-  os << "; steps with a mover check " << ds.mover_checks;
+  os << "; steps with a mover check " << ds.mover_checks << " (tested and reduced " << ds.mover_reductions << ")";
   if (cfg.contacts)
     os << "; ghost-ghost pairs skipped " << ds.foreign_pairs << "; pair evaluations " << ds.kernel_pairs
        << ", of which with a ghost member (also evaluated on its owner) " << ds.shared_pairs;

@@ -299,17 +299,21 @@ TEST(MpiDomain, FragmentCrossesEveryDomainAt5kmsInOneStep) {
   cfg.dt = 0.9 * adv.dt;
   ASSERT_GT(5000.0 * cfg.dt, 20.0);
   // It never comes near a sphere: no exchange is needed for it (domain_movers.cpp), only the
-  // check of the moving sphere at every step (the former rule exchanged at every step).
-  std::int64_t exchanges = 0, checks = 0;
+  // check of the moving sphere at every step (the former rule exchanged at every step), and as it
+  // stays 50 m or more from every rank's box no rank tests its spheres against it (no reduction).
+  std::int64_t exchanges = 0, checks = 0, reductions = 0;
   compare(sp, cfg, 40, "pile + 5 km/s fragment", [&](const mpi::DomainSim& d) {
     exchanges = d.stats().exchanges;
     checks = d.stats().mover_checks;
+    reductions = d.stats().mover_reductions;
   });
   if (world().rank == 0)
-    std::printf("fragment: %.1f m per step; %lld exchanges, %lld steps with a mover check\n", 5000.0 * cfg.dt,
-                static_cast<long long>(exchanges), static_cast<long long>(checks));
+    std::printf("fragment: %.1f m per step; %lld exchanges, %lld steps with a mover check, %lld reduced\n",
+                5000.0 * cfg.dt, static_cast<long long>(exchanges), static_cast<long long>(checks),
+                static_cast<long long>(reductions));
   EXPECT_GE(checks, 35);
   EXPECT_LE(exchanges, 2);
+  EXPECT_EQ(reductions, 0);
 }
 
 TEST(MpiDomain, SphereFallingOnADomainBoundaryTriggersTheExchange) {
@@ -331,13 +335,14 @@ TEST(MpiDomain, SphereFallingOnADomainBoundaryTriggersTheExchange) {
   cfg.dt = 0.9 * adv.dt;
   for (bool mr : {false, true}) {
     cfg.multirate = mr;
-    std::int64_t exchanges = 0, checks = 0;
+    std::int64_t exchanges = 0, checks = 0, reductions = 0;
     std::size_t across = 0;
     const int steps = static_cast<int>(0.5 / cfg.dt);  // falls 0.564 m before touching: 0.28 s
     const SimState end = compare(sp, cfg, steps, mr ? "sphere onto a domain boundary (multi-rate)" : "sphere onto a domain boundary",
                                  [&](const mpi::DomainSim& d) {
                                    exchanges = d.stats().exchanges;
                                    checks = d.stats().mover_checks;
+                                   reductions = d.stats().mover_reductions;
                                    across = std::max(across, d.cross_rank_contacts());
                                  });
     if (world().rank == 0) {
@@ -351,6 +356,7 @@ TEST(MpiDomain, SphereFallingOnADomainBoundaryTriggersTheExchange) {
     }
     EXPECT_GT(checks, 0);
     if (world().size == 2) {  // (the cut at x = 0: the sphere not a ghost of the far side before)
+      EXPECT_GT(reductions, 0);  // it falls onto both sides' boxes: the ranks test their spheres
       EXPECT_GE(exchanges, 1);
     }
     if (world().size > 1) {

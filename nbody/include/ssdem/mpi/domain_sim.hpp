@@ -107,6 +107,7 @@ struct DomainStats {
   std::int64_t exchanges = 0, rebalances = 0, gravity_gathers = 0, steps = 0;
   std::int64_t level_rounds = 0;  ///< multi-rate equalisation rounds (>= 1 per base step)
   std::int64_t mover_checks = 0;  ///< base steps at which spheres past the exchange distance were checked
+  std::int64_t mover_reductions = 0;  ///< of those, the steps whose movers came near another rank's box or movers
   std::int64_t check_parts = 0;   ///< failure-check parts this rank sent (only a failing part travels)
   std::int64_t foreign_pairs = 0;  ///< listed ghost-ghost pairs skipped, summed over the evaluations
   /// pair evaluations by the kernel, and those of a pair with a ghost member (the ghost's owner
