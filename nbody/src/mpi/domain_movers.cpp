@@ -8,7 +8,7 @@
 /// box of rank A's own spheres became a ghost on A. For i own on A and j own on B with j not a
 /// ghost on A, |x_i(ex) - x_j(ex)| >= R, so |x_i - x_j| >= R - d_i - d_j:
 ///   * both d < t: |x_i - x_j| > 2 s_max + k - 2t >= s_i + s_j + (k - 2t): not near with multi-rate
-///     (k - 2t = g) and not in contact without (k - 2t = k/2 >= 0). No check needed.
+///     (k - 2t = g) and not in contact without (k - 2t = 0). No check needed.
 ///   * a mover (d >= t; debris: the few fast fragments): its position is sent to every rank
 ///     (allgather of the movers, one collective per step as the former max-displacement
 ///     allreduce), and each rank tests its own spheres against the foreign movers through the pair
@@ -22,7 +22,8 @@
 ///     ranks' boxes at the exchange that all of them hold, the movers that are far from every
 ///     other rank's box (a non-mover lies within t of it) and from every other rank's movers
 ///     (movers_far_apart): when all are, no rank tests its spheres and no reduction is made
-///     (stats: mover_reductions of mover_checks).
+///     (stats: mover_reductions of mover_checks; DomainSim::audit_movers runs the test anyway and
+///     fails if it finds a near pair the rule missed: the MPI tests set it).
 /// The old rule (an exchange whenever max d >= t) exchanged every other base step on the paper
 /// debris, where fragments at hundreds of m/s move t in a few steps. Exchanges never change
 /// results (the forces are those of one rank whenever the ghosts cover every near pair), only cost.
@@ -31,6 +32,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "ssdem/mpi/domain_sim.hpp"
 
@@ -106,8 +109,9 @@ bool DomainSim::need_exchange() {
   if (all.empty()) return false;
   if (all.size() > std::max<std::size_t>(64, n_global_ / 16)) return true;
   ++stats_.mover_checks;
-  if (movers_far_apart(all, boxes_, comm_.size, smax_, g, t)) return false;  // every rank alike
-  ++stats_.mover_reductions;
+  const bool far = movers_far_apart(all, boxes_, comm_.size, smax_, g, t);  // every rank alike
+  if (far && !audit_movers) return false;
+  if (!far) ++stats_.mover_reductions;
   // a near pair of foreign mover m and own sphere j: covered iff m is a ghost here and j was sent
   // to m's rank (x_j(ex) within the reach of that rank's box at the exchange)
   auto covered = [&](const Mover& m, std::uint32_t j) {
@@ -145,7 +149,11 @@ bool DomainSim::need_exchange() {
       if (mine_[j] && near(m, j) && !covered(m, j)) bad = true;
     if (bad) break;
   }
-  return comm_.max(bad ? 1.0 : 0.0) > 0.0;
+  const bool any = comm_.max(bad ? 1.0 : 0.0) > 0.0;
+  if (far && any)  // (audit_movers; every rank alike)
+    throw std::logic_error("movers_far_apart ruled out a near pair that the ranks' test finds, at base step " +
+                           std::to_string(step_));
+  return any;
 }
 
 }  // namespace ssdem::mpi

@@ -2,20 +2,24 @@
 /// What the MPI tests of ssdem-grav share: the world communicator, one OpenMP thread (the
 /// one-rank references sum in index order; a test that wants more threads asks for them), the
 /// G = 1 contact configuration of their piles, and the comparison of a gathered state with one
-/// rank's.
+/// rank's (state_diff; compare: a distributed run beside a one-rank one, bit for bit).
 #pragma once
 #include <mpi.h>
 #include <omp.h>
 
-#include <algorithm>
+#include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <memory>
 
 #include "common/rng.hpp"
 #include "ssdem/contact_params.hpp"
 #include "ssdem/dt_rule.hpp"
 #include "ssdem/generators.hpp"
 #include "ssdem/mpi/comm.hpp"
+#include "ssdem/mpi/domain_sim.hpp"
 #include "ssdem/simulation.hpp"
 
 namespace ssdem_test {
@@ -59,6 +63,18 @@ inline ssdem::SimConfig pile_config(const ssdem::Spheres& sp, double vmax, bool 
   return c;
 }
 
+/// A slab of 20 x 3 spheres of 1 m radius and 2000 kg/m^3 along x at z = 0, 2 mm apart, at rest
+/// (the ORB cuts it across x); ids 100 i + j + 1.
+inline ssdem::Spheres slab_of_spheres() {
+  using ssdem::Vec3;
+  ssdem::Spheres sp;
+  const double m = 2000.0 * 4.0 / 3.0 * M_PI;
+  for (int i = 0; i < 20; ++i)
+    for (int j = -1; j <= 1; ++j)
+      sp.push(100 * i + j + 1, Vec3((i - 9.5) * 2.002, j * 2.002, 0.0), Vec3::Zero(), Vec3::Zero(), m, 1.0);
+  return sp;
+}
+
 /// Largest difference between a gathered and a one-rank state (positions, velocities, spins,
 /// accelerations, the contact history); -1 if their layouts differ.
 inline double state_diff(const ssdem::SimState& a, const ssdem::SimState& b) {
@@ -75,5 +91,48 @@ inline double state_diff(const ssdem::SimState& a, const ssdem::SimState& b) {
       d = std::max(d, (a.history[k].v[q] - b.history[k].v[q]).norm());
   }
   return d;
+}
+
+struct Totals {
+  double m = 0;
+  ssdem::Vec3 P = ssdem::Vec3::Zero(), L = ssdem::Vec3::Zero();
+};
+inline Totals totals(const ssdem::SimState& s) {
+  Totals t;
+  for (std::size_t i = 0; i < s.sp.size(); ++i) {
+    t.m += s.sp.m[i];
+    t.P += s.sp.m[i] * s.sp.v[i];
+    t.L += s.sp.m[i] * s.sp.x[i].cross(s.sp.v[i]) + 0.4 * s.sp.m[i] * s.sp.s[i] * s.sp.s[i] * s.sp.w[i];
+  }
+  return t;
+}
+
+/// Run `steps` steps distributed and (rank 0) serially; expect bit-identical states and totals.
+/// `each` is called at the start and after every distributed step.
+template <class F>
+ssdem::SimState compare(const ssdem::Spheres& sp, const ssdem::SimConfig& cfg, int steps, const char* what, F&& each) {
+  ssdem::mpi::DomainSim dsim(world(), sp, cfg);
+  std::unique_ptr<ssdem::Simulation> ref;
+  if (world().rank == 0) ref = std::make_unique<ssdem::Simulation>(sp, cfg);
+  each(dsim);
+  for (int k = 0; k < steps; ++k) {
+    dsim.step();
+    if (ref) ref->step();
+    each(dsim);
+  }
+  ssdem::SimState got = dsim.gather_state();
+  if (ref) {
+    const ssdem::SimState want = ref->state();
+    const double d = state_diff(got, want);
+    const Totals tg = totals(got), tw = totals(want);
+    std::printf("%s, %d ranks, %d steps: max |difference| vs one rank %.3g; mass %.17g vs %.17g, |dP| %.3g, "
+                "|dL| %.3g; %zu contacts\n",
+                what, world().size, steps, d, tg.m, tw.m, (tg.P - tw.P).norm(), (tg.L - tw.L).norm(), got.history.size());
+    EXPECT_EQ(d, 0.0) << what;
+    EXPECT_EQ(tg.m, tw.m);
+    EXPECT_EQ((tg.P - tw.P).norm(), 0.0);
+    EXPECT_EQ((tg.L - tw.L).norm(), 0.0);
+  }
+  return got;
 }
 }  // namespace ssdem_test

@@ -36,51 +36,10 @@ namespace {
 using ssdem_test::pile_config;
 using ssdem_test::state_diff;
 using ssdem_test::world;
+using ssdem_test::compare;
 
 // G = 1 pile of 0.1-radius spheres with random velocities (0.3 v_esc) and spins.
 Spheres pile(double R = 0.75, std::uint64_t first_id = 0) { return ssdem_test::hot_pile(R, 17, first_id); }
-struct Totals {
-  double m = 0;
-  Vec3 P = Vec3::Zero(), L = Vec3::Zero();
-};
-Totals totals(const SimState& s) {
-  Totals t;
-  for (std::size_t i = 0; i < s.sp.size(); ++i) {
-    t.m += s.sp.m[i];
-    t.P += s.sp.m[i] * s.sp.v[i];
-    t.L += s.sp.m[i] * s.sp.x[i].cross(s.sp.v[i]) + 0.4 * s.sp.m[i] * s.sp.s[i] * s.sp.s[i] * s.sp.w[i];
-  }
-  return t;
-}
-
-// Run `steps` steps distributed and (rank 0) serially; expect bit-identical states and totals.
-// `each` is called at the start and after every distributed step.
-template <class F>
-SimState compare(const Spheres& sp, const SimConfig& cfg, int steps, const char* what, F&& each) {
-  mpi::DomainSim dsim(world(), sp, cfg);
-  std::unique_ptr<Simulation> ref;
-  if (world().rank == 0) ref = std::make_unique<Simulation>(sp, cfg);
-  each(dsim);
-  for (int k = 0; k < steps; ++k) {
-    dsim.step();
-    if (ref) ref->step();
-    each(dsim);
-  }
-  SimState got = dsim.gather_state();
-  if (ref) {
-    const SimState want = ref->state();
-    const double d = state_diff(got, want);
-    const Totals tg = totals(got), tw = totals(want);
-    std::printf("%s, %d ranks, %d steps: max |difference| vs one rank %.3g; mass %.17g vs %.17g, |dP| %.3g, "
-                "|dL| %.3g; %zu contacts\n",
-                what, world().size, steps, d, tg.m, tw.m, (tg.P - tw.P).norm(), (tg.L - tw.L).norm(), got.history.size());
-    EXPECT_EQ(d, 0.0) << what;
-    EXPECT_EQ(tg.m, tw.m);
-    EXPECT_EQ((tg.P - tw.P).norm(), 0.0);
-    EXPECT_EQ((tg.L - tw.L).norm(), 0.0);
-  }
-  return got;
-}
 int total_int(int v) {
   MPI_Allreduce(MPI_IN_PLACE, &v, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
   return v;
@@ -321,11 +280,8 @@ TEST(MpiDomain, SphereFallingOnADomainBoundaryTriggersTheExchange) {
   // at 2 m/s over the cut, onto spheres of both sides: it moves past the exchange distance long
   // before it is near them, so only the mover check brings it into the other rank's ghosts in
   // time. Single rate and multi-rate, each bit-identical to one rank.
-  Spheres sp;
-  const double m = 2000.0 * 4.0 / 3.0 * M_PI;
-  for (int i = 0; i < 20; ++i)
-    for (int j = -1; j <= 1; ++j)
-      sp.push(100 * i + j + 1, Vec3((i - 9.5) * 2.002, j * 2.002, 0.0), Vec3::Zero(), Vec3::Zero(), m, 1.0);
+  Spheres sp = ssdem_test::slab_of_spheres();
+  const double m = sp.m[0];
   sp.push(424242, Vec3(0.5, 0.0, 2.5), Vec3(0.0, 0.0, -2.0), Vec3::Zero(), m, 1.0);
   const DtAdvice adv = choose_kn_dt(m, 1.0, 2.0, 1.0, 0.01, 30);
   SimConfig cfg;

@@ -107,7 +107,7 @@ struct DomainStats {
   std::int64_t exchanges = 0, rebalances = 0, gravity_gathers = 0, steps = 0;
   std::int64_t level_rounds = 0;  ///< multi-rate equalisation rounds (>= 1 per base step)
   std::int64_t mover_checks = 0;  ///< base steps at which spheres past the exchange distance were checked
-  std::int64_t mover_reductions = 0;  ///< of those, the steps whose movers came near another rank's box or movers
+  std::int64_t mover_reductions = 0;  ///< of those, the steps not ruled out by movers_far_apart (tested and reduced)
   std::int64_t check_parts = 0;   ///< failure-check parts this rank sent (only a failing part travels)
   std::int64_t foreign_pairs = 0;  ///< listed ghost-ghost pairs skipped, summed over the evaluations
   /// pair evaluations by the kernel, and those of a pair with a ghost member (the ghost's owner
@@ -125,6 +125,9 @@ struct DomainStats {
 
 class DomainSim {
  public:
+  /// Tests: at a mover check that movers_far_apart rules out (domain_movers.cpp), run the ranks'
+  /// test and its reduction anyway and throw std::logic_error (every rank) if it finds a near pair.
+  static inline bool audit_movers = false;
   /// Fresh start: every rank passes the same full set of spheres and configuration.
   DomainSim(Comm& comm, const Spheres& all, SimConfig cfg, double imbalance = 0.1);
   /// Restart: every rank passes the same full state (e.g. read from a checkpoint).
