@@ -8,6 +8,9 @@
 #                       MPI_PAPER_TIME s, 1 x 2 against 2 x 1 (interleaved, MPI_SCALING_REPS rounds),
 #                       phases, communication, equalisation rounds and an h5diff of the two final
 #                       checkpoints (runs/nbody-mpi-paper-scaling/scaling.md)
+#   mpm-mpi-scaling     : mpm-frag 1 -> 2 ranks against 1 -> 2 threads: a Tillotson impact and the
+#                       Tonge-Ramesh impact along z and along the cut axis (MPM_SCALING_CASES), medians of
+#                       MPI_SCALING_REPS rounds, OLD = MPM_SCALING_OLD (runs/mpm-mpi-scaling/scaling.md)
 #   mpm-mpi-files-bench : mpm-frag's collective files: memory and wall against MPM_FILES_OLD
 #   mpm-mpi-outflow-bench : mpm-frag's outflow record written together: memory and wall against MPM_OUTFLOW_OLD
 #   nbody-rows-bench    : ms per series row of ssdem-grav, serial and on 2 ranks
@@ -38,6 +41,16 @@ nbody-mpi-paper-scaling: build-mpi ## multi-rate on MPI: paper-method debris, 1 
 	  --method paper --coarsen 1 $$(test -f $(DEMO1K)/fragment/frag_outflow.h5 && echo --outflow $(DEMO1K)/fragment/frag_outflow.h5)
 	$(PY) $(ROOT)/pipelines/mpi/mpi_paper_scaling.py $(MPI_BUILD)/nbody/ssdem-grav $(PAPER_SPHERES) \
 	  $(RUNS)/nbody-mpi-paper-scaling $(MPI_PAPER_TIME) $(MPI_SCALING_REPS) $(MPIRUN)
+
+# mpm-frag's strong scaling (issue 19): ~6 min per round with all three cases on this 2-core VM.
+MPM_SCALING_CASES ?= all
+MPM_SCALING_OLD ?= -
+.PHONY: mpm-mpi-scaling
+mpm-mpi-scaling: build-mpi ## mpm-frag 1 -> 2 ranks vs 1 -> 2 threads: Tillotson and Tonge-Ramesh impacts (cuts by work)
+	cmake --build $(BUILD) --target mpm-frag -j $(JOBS)
+	mkdir -p $(RUNS)/mpm-mpi-scaling
+	$(PY) $(ROOT)/pipelines/mpi/mpm_scaling.py $(BUILD)/mpm/mpm-frag $(MPI_BUILD)/mpm/mpm-frag $(RUNS)/mpm-mpi-scaling \
+	  $(MPI_SCALING_REPS) $(MPM_SCALING_CASES) $(MPM_SCALING_OLD) $(MPIRUN)
 
 .PHONY: nbody-mpi-extrapolate
 nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks from the measured 2-rank figures
