@@ -11,8 +11,9 @@ Cases (scenes of the repository, overrides as below):
 Configurations, run interleaved REPS times: the serial build on 1 and 2 OpenMP threads, the MPI
 build on 1 and 2 ranks x 1 thread, and OLD (another MPI mpm-frag, optional) on 2 ranks.
 Reported per case and configuration: the median of the `done:` walls (the stepping, without
-start-up and output), its speed-up against the serial one-thread run, and for MPI runs the halo and
-migration volumes, the rebalancings and the work imbalance of the last log line.
+start-up and output) with its range, its speed-up against the serial one-thread run, and for MPI
+runs the halo and migration volumes, the rebalancings and the work imbalance of the last log line;
+each run's log beside its directory (<outdir>/<case>-<configuration>-<round>.log).
 Usage: mpm_scaling.py <serial mpm-frag> <MPI mpm-frag> <outdir> <reps> <cases,comma-separated|all>
        <old MPI mpm-frag|-> <mpirun...>
 """
@@ -51,6 +52,8 @@ def run(case, name, exe, ranks, threads, rep):
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OMP_PROC_BIND="false")
     p = subprocess.run(cmd, env=env, capture_output=True, text=True)
     log = p.stdout + p.stderr
+    with open(d + ".log", "w") as f:  # beside the run directory, which mpm-frag owns
+        f.write(log)
     if p.returncode != 0:
         sys.exit(f"{' '.join(cmd)}: exit {p.returncode}\n{log[-2000:]}")
     m = DONE.findall(log)
@@ -70,18 +73,19 @@ lines = ["# mpm-frag: 1 -> 2 ranks against 1 -> 2 threads", "",
          f"Medians of {reps} interleaved rounds of the `done:` wall (stepping only); speed-up against the "
          "serial one-thread run; MPI runs: halo / migration volume, rebalancings, work imbalance "
          "(mean / largest over the checks, before rebalancing).", "",
-         "| case | configuration | steps | wall s | speed-up | halo MB | migration MB | rebalancings | imbalance |",
+         "| case | configuration | steps | wall s (median; range) | speed-up | halo MB | migration MB | rebalancings | imbalance |",
          "|---|---|---|---|---|---|---|---|---|"]
 for case in cases:
     base = statistics.median(w for w, _, _ in res[(case, "serial 1 thread")])
     for name, *_ in configs:
         rows = res[(case, name)]
         wall = statistics.median(w for w, _, _ in rows)
+        lo, hi = min(w for w, _, _ in rows), max(w for w, _, _ in rows)
         comm = rows[-1][2]
         extra = "| | | | "
         if comm:
             imb = f"{comm[4]} / {comm[5]}" if comm[4] else ""
             extra = f"| {float(comm[0]):.3g} | {float(comm[1]):.3g} | {comm[3]} | {imb} "
-        lines.append(f"| {case} | {name} | {rows[-1][1]} | {wall:.2f} | {base / wall:.2f} {extra}|")
+        lines.append(f"| {case} | {name} | {rows[-1][1]} | {wall:.2f}; {lo:.2f}-{hi:.2f} | {base / wall:.2f} {extra}|")
 open(os.path.join(out, "scaling.md"), "w").write("\n".join(lines) + "\n")
 print("\n".join(lines))
