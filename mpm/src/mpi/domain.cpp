@@ -172,9 +172,7 @@ std::vector<long long> DomainSolver::histogram() const {
 }
 
 double DomainSolver::imbalance() {
-  const std::vector<long long> w = work_weights(solver_->particles(), solver_->materials());
-  long long total = 0;
-  for (const long long x : w) total += x;
+  long long total = total_work(solver_->particles(), solver_->materials());
   long long mx = total;  // integer reductions: exact, the same on every rank
   MPI_Allreduce(MPI_IN_PLACE, &mx, 1, MPI_LONG_LONG, MPI_MAX, comm_.c);
   comm_.sum(&total, 1);

@@ -1,6 +1,6 @@
 /// @file slabs.cpp
 /// Slab decomposition of the background grid (mpm/mpi/domain.hpp): cuts balancing the particle
-/// count per rank: with P* = min { P : sum_{c < P} n(c) >= r N / R }, the cut P_r is whichever of
+/// count or the work (work_weights) per rank: with P* = min { P : sum_{c < P} n(c) >= r N / R }, the cut P_r is whichever of
 /// P* - 1 and P* leaves the cumulative count nearer r N / R (P* on a tie), every slab at least W
 /// planes wide, the owner of a cell, and the box (owned planes plus H ghost planes per side,
 /// clipped to the grid) a rank holds, and the memory that box and its particles need
@@ -63,8 +63,11 @@ std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, i
   return cut;
 }
 
-std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
-  std::vector<long long> w(ps.size(), kWorkUnit);
+namespace {
+/// add(p, c) for every particle p with a cost c = round(kWorkUnit work_f min(s_{f,p}, 1e9)) > 0
+/// of a cost field f of its material's style (work_weights).
+template <class Add>
+void each_cost(const std::vector<MaterialSlot>& mats, Add&& add) {
   for (const MaterialSlot& m : mats)
     for (std::size_t f = 0; f < m.style->state_fields.size(); ++f) {
       const StateField& sf = m.style->state_fields[f];
@@ -72,9 +75,21 @@ std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<Mat
       const double* s = m.state[f].data();  // one component (StateField::work)
       for (std::size_t p = m.begin; p < m.end; ++p)
         if (const double v = s[p - m.begin]; v > 0.0)  // NaN and negative: 0
-          w[p] += std::llround(static_cast<double>(kWorkUnit) * sf.work * std::min(v, 1e9));
+          add(p, std::llround(static_cast<double>(kWorkUnit) * sf.work * std::min(v, 1e9)));
     }
+}
+}  // namespace
+
+std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
+  std::vector<long long> w(ps.size(), kWorkUnit);
+  each_cost(mats, [&](std::size_t p, long long c) { w[p] += c; });
   return w;
+}
+
+long long total_work(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
+  long long t = kWorkUnit * static_cast<long long>(ps.size());
+  each_cost(mats, [&](std::size_t, long long c) { t += c; });
+  return t;
 }
 
 DomainSolver::MemoryRatio DomainSolver::memory_ratio(double nodes, double bytes) const {

@@ -35,12 +35,11 @@
 ///   2. every `rebalance_every` steps (default every step): imbalance I = max_r W_r / mean_r W_r
 ///      of the ranks' work W_r = sum_p w_p (work_weights: a plain particle 1, a Tonge-Ramesh
 ///      particle 1 + 0.6 M with M its last update's damage sub-steps, in integer units); if
-///      I > threshold the cuts are
-///      recomputed as above from the global histogram of work w(c) instead of n(c) (an integer
-///      allreduce: exact; the set-up's cuts, before any update, count particles), each
-///      rank moves to its new box (Solver::set_subdomain) and the particles migrate (1.); unless
-///      a rank's new box and particles would not fit its memory (memory_ratio): then the cuts
-///      stay (DomainStats::rebalances_skipped).
+///      I > threshold the cuts are recomputed as above from the global histogram of work w(c)
+///      instead of n(c) (an integer allreduce: exact; the set-up's cuts, before any update, count
+///      particles), each rank moves to its new box (Solver::set_subdomain) and the particles
+///      migrate (1.); unless a rank's new box and particles would not fit its memory
+///      (memory_ratio): then the cuts stay (DomainStats::rebalances_skipped).
 ///   3. the serial step on the box. After each P2G pass the GridExchange (halo.cpp) completes the
 ///      shared nodes: rank r and its neighbour swap their partial sums of m_i, (m v)_i, f_i (the
 ///      fields of that pass; after the MUSL re-projection the momenta) over the 2H overlap planes
@@ -109,6 +108,8 @@ inline constexpr long long kWorkUnit = 64;
 /// cost up to 1 + 0.6 x 2 000 plain ones): exact integer sums, a function of the state alone
 /// (deterministic cuts). kWorkUnit for every particle of a style without them.
 std::vector<long long> work_weights(const ParticleSet& ps, const std::vector<MaterialSlot>& mats);
+/// sum_p w_p of work_weights, without the per-particle array (the imbalance check of every step).
+long long total_work(const ParticleSet& ps, const std::vector<MaterialSlot>& mats);
 
 /// Options of the decomposition.
 struct DomainOptions {
