@@ -6,8 +6,8 @@ Cases (scenes of the repository, overrides as below):
   tillotson : mpm/scenes/basalt_impact.toml, grid.cell_size = 0.0055 (203 050 particles)
   tr-z      : pipelines/impact/fragment.toml, grid.cell_size = 700, body[0].ppc = 2,
               time.end = 0.3 (190 764 particles, 17 steps; the impact along z, across the cut axis)
-  tr-x      : the same with the impactor along x (the slab cut axis): the shock starts in one slab,
-              which the cuts by work (mpm/mpi/domain.hpp) must follow
+  tr-x      : the same with the impactor along x (the first cut's axis): the shock starts in one box,
+              which the boxes by work (mpm/mpi/domain.hpp) must follow
 Configurations, run interleaved REPS times: the serial build on 1 and 2 OpenMP threads, the MPI
 build on 1 and 2 ranks x 1 thread, and OLD (another MPI mpm-frag, optional) on 2 ranks.
 Reported per case and configuration: the median of the `done:` walls (the stepping, without

@@ -18,6 +18,8 @@
 #   nbody-mpi-gravity-bench: ssdem-grav's gravity (locally essential trees) on 2-3 ranks vs another binary
 #   nbody-mpi-extrapolate : the model of nbody_extrapolate.py from those measured figures to the
 #                       paper's 10^6 spheres on 64, 512 and 4 096 ranks (stated model, seconds)
+#   mpm-mpi-extrapolate : the model of mpm_extrapolate.py: mpm-frag's ORB boxes for 10^7 particles
+#                       on 64, 512 and 4 096 ranks, Tillotson (MUSL) and Tonge-Ramesh (midpoint)
 # Included by pipelines/Makefile (ROOT, PY, JOBS, MPI_BUILD, build-mpi).
 MPI_SCALING_STEPS ?= 200
 MPI_SCALING_REPS ?= 3
@@ -55,6 +57,11 @@ mpm-mpi-scaling: build-mpi ## mpm-frag 1 -> 2 ranks vs 1 -> 2 threads: Tillotson
 .PHONY: nbody-mpi-extrapolate
 nbody-mpi-extrapolate: ## model: the paper's 1e6-sphere N-body on 64-4096 ranks from the measured 2-rank figures
 	$(PY) $(ROOT)/pipelines/mpi/nbody_extrapolate.py
+
+.PHONY: mpm-mpi-extrapolate
+mpm-mpi-extrapolate: ## model: mpm-frag's ORB boxes for 1e7 particles on 64-4096 ranks from the measured figures
+	$(PY) $(ROOT)/pipelines/mpi/mpm_extrapolate.py
+	$(PY) $(ROOT)/pipelines/mpi/mpm_extrapolate.py --c 12.6e-6 --scheme midpoint
 
 # mpm-frag's files on MPI ranks (issue 19 item 4): peak memory per rank and wall of a 203 050-
 # particle run writing snapshots and checkpoints (2 ranks) and of its restart (2 and 3 ranks),

@@ -10,11 +10,11 @@
 ///              last-good-state copy, binning keys, the generator's record)
 /// The total must not exceed the memory available: physical memory, or RLIMIT_AS / the cgroup's
 /// memory.max when smaller. Particle counts must stay below 2^32 (32-bit particle indices).
-/// On P MPI ranks (mpi/domain.hpp: slabs of the grid and their particles, the set-up
+/// On P MPI ranks (mpi/domain.hpp: ORB boxes of the grid and their particles, the set-up
 /// distributed) a rank needs about total / P; the L ranks sharing a node need L total / P of the
-/// node's memory. That first check runs before the cuts are known; once they are (the slabs
+/// node's memory. That first check runs before the cuts are known; once they are (the boxes
 /// balance particles, so a rank beside empty space may hold far more than 1/P of the grid, and
-/// every slab has 2 ghost planes a side), each rank checks its own box and particles
+/// every box has 2 ghost nodes a side), each rank checks its own box and particles
 /// (process_bytes, DomainSolver: mpi/domain.hpp) against its process limit and the node's ranks
 /// together against the node's memory.
 #pragma once

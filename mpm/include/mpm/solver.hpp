@@ -82,9 +82,10 @@ struct Subdomain {
   Eigen::Vector3i lo = Eigen::Vector3i::Zero();     ///< global index of local node (0,0,0)
   Eigen::Vector3i shape = Eigen::Vector3i::Zero();  ///< local nodes per axis
   GridExchange* exchange = nullptr;                 ///< completes shared nodes, global reductions
-  /// The node planes [own_lo, own_hi) (global) along axis own_axis that this process owns, for
-  /// sums over nodes that count each node once (drive reactions); own_axis < 0: every node held.
-  int own_axis = -1, own_lo = 0, own_hi = 0;
+  /// The nodes [own_lo, own_hi) (global, per axis) this process owns, for sums over nodes that
+  /// count each node once (drive reactions); owns_all: every node held (no decomposition).
+  bool owns_all = true;
+  Eigen::Vector3i own_lo = Eigen::Vector3i::Zero(), own_hi = Eigen::Vector3i::Zero();
 };
 
 /// Stress-update order.

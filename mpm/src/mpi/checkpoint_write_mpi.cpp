@@ -118,11 +118,10 @@ void write_checkpoint_mpi(DomainSolver& dom, const std::string& path, const Driv
   rows.optional_arrays = optional;
   bool ok = common::write_particle_content(file.id(), snap, prov, rows.particles);
   ok = write_mpm_state(file.id(), set, slots, r, d, identity, rows) && ok;
-  {  // /mpm_state/mpi: the cuts and where each particle was (a restart on as many ranks)
+  {  // /mpm_state/mpi: the tree of cuts and where each particle was (a restart on as many ranks)
     h5::Handle g = h5::create_group(file.id(), "mpm_state/mpi");
-    const std::vector<int>& cut = dom.slabs().cut;
-    h5::write_attr(g, "ranks", static_cast<std::int64_t>(cut.size() - 1));
-    h5::write_attr(g, "cuts", std::vector<std::int64_t>(cut.begin(), cut.end()));
+    h5::write_attr(g, "ranks", static_cast<std::int64_t>(dom.orb().ranks()));
+    if (dom.orb().ranks() > 1) h5::write_attr(g, "orb", dom.orb().flat());
     ok = h5::write_dataset_rows(g, "rank", rank.data(), rank.size(), 1, "1", rows.particles) && ok;
     ok = h5::write_dataset_rows(g, "index", index.data(), index.size(), 1, "1", rows.particles) && ok;
     const std::size_t nt = pack_totals(Diagnostics{}).size(), nr = static_cast<std::size_t>(comm.size);

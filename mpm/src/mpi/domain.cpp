@@ -16,95 +16,137 @@
 namespace mpmfrag::mpi {
 
 namespace {
-/// Cell index c = floor((x_a - o_a) / h_a) of every particle along the split axis (the same
-/// expression as axis_weights), clamped to the grid.
-int cell_of(const common::GridInfo& g, int a, double x) {
-  const double xi = (x - g.origin[a]) / g.cell_size[a];
-  const double c = std::floor(xi);
-  return static_cast<int>(std::clamp(c, 0.0, static_cast<double>(g.shape[a] - 1)));
+/// Cell c = floor((x - o) / h) of position x per axis (the expression of axis_weights), clamped
+/// to the grid.
+Eigen::Vector3i cell_of(const common::GridInfo& g, const double* x) {
+  Eigen::Vector3i c;
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::floor((x[a] - g.origin[a]) / g.cell_size[a]);
+    // a NaN position counts in cell 0 (migrate() stops the run on it before it is used)
+    c[a] = static_cast<int>(std::min(f > 0.0 ? f : 0.0, static_cast<double>(g.shape[a] - 1)));
+  }
+  return c;
 }
-/// The split axis (the grid's longest), the halo and the narrowest slab (domain.hpp), no cuts.
-Slabs slab_layout(const common::GridInfo& grid, int ghost_layers) {
-  Slabs s;
-  s.axis = 0;
-  for (int d = 1; d < 3; ++d)
-    if (grid.shape[d] > grid.shape[s.axis]) s.axis = d;
-  s.halo = 2;
-  s.min_width = std::max({2 * s.halo, 2 * ghost_layers + 1 - s.halo, 1});
-  return s;
+/// The tree's grid, halo (H = 2) and narrowest side W (domain.hpp), no cuts.
+Orb orb_layout(const common::GridInfo& grid, int ghost_layers) {
+  Orb o;
+  o.shape = grid.shape;
+  o.halo = 2;
+  o.min_width = std::max({2 * o.halo, 2 * ghost_layers + 1 - o.halo, 1});
+  return o;
+}
+/// orb_cuts of the layout `o` for `ranks`, from the weights each(add) reports (add(x, w) per
+/// particle at position x of weight w), summed over `comm` when given.
+template <class Each>
+Orb orb_of(const Orb& o, const common::GridInfo& g, int ranks, Each&& each, Comm* comm) {
+  return orb_cuts(o.shape, ranks, o.halo, o.min_width,
+                  [&](const std::vector<OrbRequest>& req, const std::function<int(const Eigen::Vector3i&)>& locate) {
+                    std::vector<std::vector<long long>> h(req.size());
+                    for (std::size_t q = 0; q < req.size(); ++q)
+                      h[q].assign(static_cast<std::size_t>(req[q].box.hi[req[q].axis] - req[q].box.lo[req[q].axis]), 0);
+                    each([&](const double* x, long long w) {
+                      const Eigen::Vector3i c = cell_of(g, x);
+                      const int q = locate(c);
+                      if (q >= 0) h[static_cast<std::size_t>(q)][static_cast<std::size_t>(c[req[q].axis] - req[q].box.lo[req[q].axis])] += w;
+                    });
+                    if (comm) {  // one exact integer reduction per level of the tree
+                      std::vector<long long> flat;
+                      for (const auto& v : h) flat.insert(flat.end(), v.begin(), v.end());
+                      comm->sum(flat.data(), static_cast<int>(flat.size()));
+                      std::size_t k = 0;
+                      for (auto& v : h)
+                        for (long long& x : v) x = flat[k++];
+                    }
+                    return h;
+                  });
 }
 }  // namespace
 
+Subdomain subdomain_of(const Orb& orb, int r) {
+  const Box held = orb.held(r), own = orb.own()[static_cast<std::size_t>(r)];
+  Subdomain s;
+  s.lo = held.lo;
+  s.shape = held.hi - held.lo;
+  s.owns_all = false;
+  s.own_lo = own.lo;
+  s.own_hi = own.hi;
+  return s;
+}
+
 DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
     : comm_(comm), opt_(opt), grid_(setup.grid) {
-  init_slabs(setup);
+  init_orb(setup);
   const ParticleSet& ps = setup.particles;
-  std::vector<long long> count(grid_.shape[slabs_.axis], 0);
-  for (std::size_t p = 0; p < ps.size(); ++p) ++count[cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])];
-  slabs_.cut = balanced_cuts(count, comm_.size, slabs_.min_width);
+  orb_ = orb_of(orb_, grid_, comm_.size, [&](auto&& add) {
+    for (std::size_t p = 0; p < ps.size(); ++p) add(&ps.x[3 * p], 1);
+  }, nullptr);
   std::vector<char> keep(ps.size());
-  for (std::size_t p = 0; p < ps.size(); ++p)
-    keep[p] = slabs_.owner(cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis])) == comm_.rank;
+  for (std::size_t p = 0; p < ps.size(); ++p) keep[p] = orb_.owner(cell(&ps.x[3 * p])) == comm_.rank;
   ParticleSet mine;
   std::vector<MaterialSlot> mats;
   select_particles(ps, setup.materials, keep, mine, mats);
   build_solver(setup, std::move(mine), std::move(mats));
 }
 
-DomainSolver::DomainSolver(MPI_Comm comm, const Setup& mine, const std::vector<int>& cut, DomainOptions opt)
+DomainSolver::DomainSolver(MPI_Comm comm, const Setup& mine, const Orb& orb, DomainOptions opt)
     : comm_(comm), opt_(opt), grid_(mine.grid) {
-  init_slabs(mine);
-  if (cut.size() != static_cast<std::size_t>(comm_.size) + 1)
-    throw std::logic_error("DomainSolver: " + std::to_string(cut.size()) + " cuts for " + std::to_string(comm_.size) + " ranks");
-  slabs_.cut = cut;
-  bool ok = cut.front() == 0 && cut.back() == grid_.shape[slabs_.axis];
-  for (std::size_t p = 0; ok && p < mine.particles.size(); ++p)
-    ok = slabs_.owner(cell_of(grid_, slabs_.axis, mine.particles.x[3 * p + slabs_.axis])) == comm_.rank;
+  init_orb(mine);
+  if (orb.ranks() != comm_.size || orb.shape != grid_.shape || !orb_.set(orb.split))
+    throw std::logic_error("DomainSolver: a tree of " + std::to_string(orb.ranks()) + " boxes for " +
+                           std::to_string(comm_.size) + " ranks, of another grid or not a partition");
+  bool ok = true;
+  for (std::size_t p = 0; ok && p < mine.particles.size(); ++p) ok = orb_.owner(cell(&mine.particles.x[3 * p])) == comm_.rank;
   if (!comm_.all(ok))  // every rank throws
-    throw std::logic_error("DomainSolver: cuts that do not span the grid, or a particle outside its rank's slab");
+    throw std::logic_error("DomainSolver: a particle outside its rank's box");
   build_solver(mine, mine.particles, mine.materials);
 }
 
-std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles) {
+std::pair<Setup, Orb> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles) {
   int rank = 0, size = 1;
   MPI_Comm_rank(comm, &rank);
   MPI_Comm_size(comm, &size);
   SetupPart none;  // the grid first (nothing stored)
   Setup shape = build_setup(scene, builtin_materials(), &none);
-  if (!particles) return {std::move(shape), {}};  // a restart: the checkpoint's particles and cuts
+  if (!particles) return {std::move(shape), Orb{}};  // a restart: the checkpoint's particles and tree
   const common::GridInfo& g = shape.grid;
-  Slabs sl = slab_layout(g, shape.solver.ghost_layers);
-  const int axis = sl.axis;
-  // the particles per plane, every rank for itself (the same integers everywhere: no reduction)
-  std::vector<long long> count(g.shape[axis], 0);
-  SetupPart counting;
-  counting.each = [&](const Eigen::Vector3d& x) { ++count[cell_of(g, axis, x[axis])]; };
-  (void)build_setup(scene, builtin_materials(), &counting);
-  sl.cut = balanced_cuts(count, size, sl.min_width);
+  // the particles per plane of each box being cut: every rank walks the lattice itself (the same
+  // integers everywhere: no reduction)
+  Orb orb = orb_of(orb_layout(g, shape.solver.ghost_layers), g, size, [&](auto&& add) {
+    SetupPart counting;
+    counting.each = [&](const Eigen::Vector3d& x) { add(x.data(), 1); };
+    (void)build_setup(scene, builtin_materials(), &counting);
+  }, nullptr);
   SetupPart mine;
-  mine.keep = [&](const Eigen::Vector3d& x) { return sl.owner(cell_of(g, axis, x[axis])) == rank; };
-  return {build_setup(scene, builtin_materials(), &mine), sl.cut};
+  mine.keep = [&](const Eigen::Vector3d& x) { return orb.owner(cell_of(g, x.data())) == rank; };
+  return {build_setup(scene, builtin_materials(), &mine), std::move(orb)};
 }
 
-void DomainSolver::init_slabs(const Setup& setup) { slabs_ = slab_layout(grid_, setup.solver.ghost_layers); }
+void DomainSolver::init_orb(const Setup& setup) { orb_ = orb_layout(grid_, setup.solver.ghost_layers); }
 
 void DomainSolver::build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats) {
   check_memory(mats);
-  halo_ = std::make_unique<HaloExchange>(comm_, slabs_, grid_);
-  Subdomain box = slabs_.box(comm_.rank, grid_);
+  halo_ = std::make_unique<HaloExchange>(comm_, orb_);
+  Subdomain box = subdomain_of(orb_, comm_.rank);
   box.exchange = halo_.get();
   solver_ = std::make_unique<Solver>(setup.solver, grid_, std::move(mine), std::move(mats), box);
   solver_->set_drives(setup.drives);  // the drives' masses from the set-up (BodyDrive::mass)
 }
 
-int DomainSolver::cell(double x) const { return cell_of(grid_, slabs_.axis, x); }
+Eigen::Vector3i DomainSolver::cell(const double* x) const { return cell_of(grid_, x); }
+
+Orb DomainSolver::balanced_orb(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
+  const std::vector<long long> w = work_weights(ps, mats);
+  return orb_of(orb_, grid_, comm_.size, [&](auto&& add) {
+    for (std::size_t p = 0; p < ps.size(); ++p) add(&ps.x[3 * p], w[p]);
+  }, &comm_);
+}
 
 void DomainSolver::migrate() {
   const Solver& s = *solver_;
   const ParticleSet& ps = s.particles();
   const std::vector<MaterialSlot>& mats = s.materials();
   const std::size_t n = ps.size();
-  const int a = slabs_.axis, npa = s.config().shape == ShapeKind::linear ? 2 : 3;
+  const int npa = s.config().shape == ShapeKind::linear ? 2 : 3;
   std::vector<char> keep(n, 1);
   std::vector<std::vector<char>> send(comm_.size);
   std::size_t bad = n;
@@ -123,7 +165,7 @@ void DomainSolver::migrate() {
       bad = std::min(bad, p);
       continue;
     }
-    const int r = slabs_.owner(cell_of(grid_, a, ps.x[3 * p + a]));
+    const int r = orb_.owner(cell(&ps.x[3 * p]));
     if (r == comm_.rank) continue;
     keep[p] = 0;
     pack_particle(ps, mats, p, send[r]);
@@ -157,20 +199,6 @@ void DomainSolver::migrate() {
   solver_->replace_particles(std::move(out), std::move(out_mats));
 }
 
-std::vector<long long> DomainSolver::histogram() const {
-  // per plane: the work (work_weights) in [0, S_a), the particle count in [S_a, 2 S_a)
-  const ParticleSet& ps = solver_->particles();
-  const std::size_t planes = static_cast<std::size_t>(grid_.shape[slabs_.axis]);
-  const std::vector<long long> w = work_weights(ps, solver_->materials());
-  std::vector<long long> hist(2 * planes, 0);
-  for (std::size_t p = 0; p < ps.size(); ++p) {
-    const std::size_t c = static_cast<std::size_t>(cell_of(grid_, slabs_.axis, ps.x[3 * p + slabs_.axis]));
-    hist[c] += w[p];
-    ++hist[planes + c];
-  }
-  return hist;
-}
-
 double DomainSolver::imbalance() {
   long long total = total_work(solver_->particles(), solver_->materials());
   long long mx = total;  // integer reductions: exact, the same on every rank
@@ -180,35 +208,42 @@ double DomainSolver::imbalance() {
 }
 
 void DomainSolver::rebalance() {
-  std::vector<long long> hist = histogram();
-  comm_.sum(hist.data(), static_cast<int>(hist.size()));
-  const std::size_t planes = hist.size() / 2;
-  const std::vector<long long> work(hist.begin(), hist.begin() + static_cast<std::ptrdiff_t>(planes));
-  const long long* count = hist.data() + planes;
-  const std::vector<int> cut = balanced_cuts(work, comm_.size, slabs_.min_width);
-  if (cut != slabs_.cut) {
+  Orb next;
+  try {
+    next = balanced_orb(solver_->particles(), solver_->materials());
+  } catch (const common::InputError& e) {
+    // the weights leave a box of several ranks too narrow to cut (orb.hpp): every rank computed
+    // the same histograms and threw alike, so every rank keeps the tree
+    if (stats_.rebalances_skipped++ == 0 && comm_.rank == 0)
+      spdlog::warn("rebalancing left out at step {}: {} (the boxes stay; warned once, DomainStats::rebalances_skipped "
+                   "counts them)", solver_->step_count(), e.what());
+    migrate();
+    return;
+  }
+  if (!(next == orb_)) {
     // every rank's new box and particles must fit its memory (DomainSolver::check_memory's
-    // rule; the particle bytes at this rank's current mean per particle), else keep the cuts
-    Slabs next = slabs_;
-    next.cut = cut;
-    const double nodes = static_cast<double>(next.box(comm_.rank, grid_).shape.cast<double>().prod());
-    long long mine = 0;
-    for (int c = cut[comm_.rank]; c < cut[comm_.rank + 1]; ++c) mine += count[c];
-    const double n_now = static_cast<double>(solver_->particles().size());
+    // rule; the particle bytes at this rank's current mean per particle), else keep the tree
+    const ParticleSet& ps = solver_->particles();
+    std::vector<long long> count(static_cast<std::size_t>(comm_.size), 0);  // particles per new owner
+    for (std::size_t p = 0; p < ps.size(); ++p) ++count[static_cast<std::size_t>(next.owner(cell(&ps.x[3 * p])))];
+    comm_.sum(count.data(), comm_.size);
+    const long long mine = count[static_cast<std::size_t>(comm_.rank)];
+    const double nodes = static_cast<double>(next.held(comm_.rank).size());
+    const double n_now = static_cast<double>(ps.size());
     const double per = n_now > 0 ? process_bytes(0.0, solver_->materials()) / n_now : 0.0;
     double per_max = per;  // a rank with no particles now takes the largest rank's mean
     comm_.max(&per_max, 1);
     const double ratio = memory_ratio(nodes, static_cast<double>(mine) * (n_now > 0 ? per : per_max)).ratio;
     if (ratio > 1.0) {
       if (stats_.rebalances_skipped++ == 0 && comm_.rank == 0)
-        spdlog::warn("rebalancing left out at step {}: a rank's new slab would need {:.3g} x its memory, so "
-                     "the cuts stay (warned once; DomainStats::rebalances_skipped counts them)",
+        spdlog::warn("rebalancing left out at step {}: a rank's new box would need {:.3g} x its memory, so "
+                     "the boxes stay (warned once; DomainStats::rebalances_skipped counts them)",
                      solver_->step_count(), ratio);
       migrate();
       return;
     }
-    slabs_.cut = cut;
-    Subdomain box = slabs_.box(comm_.rank, grid_);
+    orb_ = std::move(next);
+    Subdomain box = subdomain_of(orb_, comm_.rank);
     box.exchange = halo_.get();
     solver_->set_subdomain(box);
     ++stats_.rebalances;
@@ -299,7 +334,8 @@ void DomainSolver::gather(int root, ParticleSet& out, std::vector<MaterialSlot>&
   sort_arrivals(in, in.ps.id);  // each material by id: a file independent of the rank count
   merge_particles(ps, mats, std::vector<char>(ps.size(), 0), in, out, out_mats);
   if (!layout) return;
-  layout->cut = slabs_.cut;
+  layout->ranks = orb_.ranks();
+  layout->split = orb_.split;
   layout->rank.clear();
   layout->index.clear();
   for (const std::vector<std::size_t>& idx : in.index)  // merge order: material by material

@@ -1,6 +1,6 @@
 /// @file outflow_mpi.cpp
 /// Outflow removal on MPI ranks (mpm/mpi/domain.hpp): each rank removes the particles of its
-/// slab whose stencil leaves the grid (Solver, outflow.cpp: the serial code) and keeps their
+/// box whose stencil leaves the grid (Solver, outflow.cpp: the serial code) and keeps their
 /// record; the totals of the removed particles are part of each rank's diagnostics, summed in
 /// rank order. The records stay on their ranks: the outflow file and the checkpoints write them
 /// collectively (local_outflow, then rows sorted by (removal time, id) across the ranks), so the

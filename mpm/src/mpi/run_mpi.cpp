@@ -50,8 +50,8 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
       check_memory(scene, process_memory_limit(), builtin_materials(), size, 1);  // one rank, RLIMIT_AS
     });
   }
-  // every rank generates the scene and keeps its own slab's particles (none for a restart)
-  std::pair<Setup, std::vector<int>> part = distributed_setup(MPI_COMM_WORLD, scene, restart.empty());
+  // every rank generates the scene and keeps its own box's particles (none for a restart)
+  std::pair<Setup, Orb> part = distributed_setup(MPI_COMM_WORLD, scene, restart.empty());
   Setup& st = part.first;
   // Rank 0 locks output.directory and every rank writes into its staging directory, published
   // when the run completes (run_directory.hpp): a failed or interrupted run leaves the previous
@@ -81,7 +81,7 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
     });
     if (!(rc.snapshot_interval > 0)) drv.next_snapshot = rc.t_end;  // initial and final only: this end
     spdlog::info("restarted from {} ({} ranks) at step {} (t = {:.6g} s)", restart,
-                 rd.layout.cut.empty() ? std::string("one rank") : std::to_string(rd.layout.cut.size() - 1),
+                 rd.layout.ranks == 0 ? std::string("one rank") : std::to_string(rd.layout.ranks),
                  domp->step_count(), domp->time());
     if (comm.rank == 0)
       if (const std::string note = common::other_build_note(restart); !note.empty()) spdlog::warn("restart: {}", note);
@@ -91,15 +91,8 @@ RunSummary run_mpm_mpi(const common::Scene& scene, const common::Provenance& pro
   DomainSolver& dom = *domp;
   long long ntot = static_cast<long long>(dom.local().particles().size());
   comm.sum(&ntot, 1);
-  const Slabs& sl = dom.slabs();
-  std::string cuts;
-  for (const int c : sl.cut) {
-    if (!cuts.empty()) cuts += ' ';
-    cuts += std::to_string(c);
-  }
-  spdlog::info("mpm-frag (MPI): {} particles on {} ranks x {} threads, grid {}x{}x{} nodes cut along axis {} into slabs at planes {}",
-               ntot, size, omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2],
-               "xyz"[sl.axis], cuts);
+  spdlog::info("mpm-frag (MPI): {} particles on {} ranks x {} threads, grid {}x{}x{} nodes cut by ORB into {}", ntot, size,
+               omp_get_max_threads(), st.grid.shape[0], st.grid.shape[1], st.grid.shape[2], dom.orb().describe());
   const std::string ckpt_path = (std::filesystem::path(rc.out_dir) / (rc.prefix + "_checkpoint.h5")).string();
   RunSummary sum;
   sum.particles = static_cast<std::size_t>(ntot);

@@ -101,13 +101,13 @@ void Solver::drive_prepare() {
 void Solver::apply_drive(GridSlot which, double t, int record, double dt) {
   const Node::Slot3 slot = Node::slot(which);
   // the nodes whose reaction this process counts: all, or on MPI ranks those it owns
-  const int a = sub_.own_axis;
-  const std::size_t sx = static_cast<std::size_t>(sub_.shape[0]), sxy = sx * static_cast<std::size_t>(sub_.shape[1]);
+  const std::size_t sx = static_cast<std::size_t>(sub_.shape[0]), sy = static_cast<std::size_t>(sub_.shape[1]);
   auto counted = [&](std::size_t i) {
-    if (a < 0) return true;
-    const std::size_t c = a == 0 ? i % sx : a == 1 ? (i / sx) % static_cast<std::size_t>(sub_.shape[1]) : i / sxy;
-    const int p = static_cast<int>(c) + sub_.lo[a];
-    return p >= sub_.own_lo && p < sub_.own_hi;
+    if (sub_.owns_all) return true;
+    const int c[3] = {static_cast<int>(i % sx), static_cast<int>((i / sx) % sy), static_cast<int>(i / (sx * sy))};
+    for (int d = 0; d < 3; ++d)
+      if (c[d] + sub_.lo[d] < sub_.own_lo[d] || c[d] + sub_.lo[d] >= sub_.own_hi[d]) return false;
+    return true;
   };
   std::vector<double> partial;  // record 2: this process's part of each drive's impulse
   for (std::size_t k = 0; k < drives_.size(); ++k) {

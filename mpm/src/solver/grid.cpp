@@ -69,7 +69,7 @@ void Solver::grid_integrate(double dt) {
 
 void Solver::apply_bc(GridSlot which) {
   // face planes in global node indices; a subdomain applies the layers inside its box (the
-  // mirror source of a symmetry layer must then be inside it too: mpm/mpi/slabs.hpp)
+  // mirror source of a symmetry layer must then be inside it too: mpm/mpi/orb.hpp)
   const int S[3] = {grid_.shape[0], grid_.shape[1], grid_.shape[2]};
   const int g = cfg_.ghost_layers;
   const Node::Slot3 slot = Node::slot(which);

@@ -82,7 +82,7 @@ constexpr double kEnd = 6e-4, U = 3.0, H = 0.01;
 TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   // the first cut (the same for any xe: the particles are the same, only their drive differs)
   const mpmfrag::Setup probe = squeeze_setup(0.15);
-  const int P = DomainSolver(MPI_COMM_WORLD, probe).slabs().cut[1];
+  const int P = DomainSolver(MPI_COMM_WORLD, probe).orb().split[0].cut;  // the root's cut (along x)
   const double xe = probe.grid.origin[0] + P * H;  // node plane P (the grid's origin holds the ghost layers)
   ASSERT_GT(xe, 0.05);
   ASSERT_LT(xe, 0.25);
@@ -92,7 +92,8 @@ TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   opt.rebalance_every = 3;
   opt.imbalance_threshold = 1.0 + 1e-9;
   DomainSolver dom(MPI_COMM_WORLD, st, opt);
-  ASSERT_EQ(dom.slabs().cut[1], P) << "the lower platen must end at the first cut";
+  ASSERT_EQ(dom.orb().split[0].axis, 0);
+  ASSERT_EQ(dom.orb().split[0].cut, P) << "the lower platen must end at the first cut";
   dom.initialize();
   run_domain(dom, kEnd);
   const long long rebalances = dom.stats().rebalances;
@@ -137,9 +138,9 @@ TEST(MpmMpi, DrivenPlatensAcrossTheCutsMatchOneRank) {
   }
   EXPECT_LT(dF, 1e-10);
   EXPECT_LT(dJ, 1e-10);
-  std::printf("%d ranks, cuts at planes %d..%d, the lower platen ends at x = %.3f m: platen loads %.4g N, %.4g N (one rank %.4g, %.4g); relative diff force %.2e, "
+  std::printf("%d ranks, %s, the lower platen ends at x = %.3f m: platen loads %.4g N, %.4g N (one rank %.4g, %.4g); relative diff force %.2e, "
               "impulse %.2e; v %.2e m/s, x %.2e m, stress %.2e Pa (of %.3g), platens rigid to %.2e m/s\n",
-              ranks(), dom.slabs().cut[1], dom.slabs().cut[ranks() - 1], xe, loads[0].force.norm(), loads[1].force.norm(),
+              ranks(), dom.orb().describe().c_str(), xe, loads[0].force.norm(), loads[1].force.norm(),
               sl[0].force.norm(), sl[1].force.norm(), dF, dJ, df.max.at("v"), df.max.at("x"), df.max.at("stress"), smax, rigid);
 }
 

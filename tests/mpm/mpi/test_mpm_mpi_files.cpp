@@ -64,8 +64,10 @@ void write_gathered(DomainSolver& dom, const std::string& path, const DriverStat
   auto hook = [&](long long fid) {
     namespace h5 = common::h5;
     h5::Handle g = h5::create_group(static_cast<hid_t>(fid), "mpm_state/mpi");
-    h5::write_attr(g, "ranks", static_cast<std::int64_t>(layout.cut.size() - 1));
-    h5::write_attr(g, "cuts", std::vector<std::int64_t>(layout.cut.begin(), layout.cut.end()));
+    h5::write_attr(g, "ranks", static_cast<std::int64_t>(layout.ranks));
+    mpi::Orb o;
+    o.split = layout.split;
+    h5::write_attr(g, "orb", o.flat());
     h5::write_dataset(g, "rank", layout.rank.data(), layout.rank.size(), 1, "1");
     h5::write_dataset(g, "index", layout.index.data(), layout.index.size(), 1, "1");
     const std::size_t nt = pack_totals(Diagnostics{}).size();

@@ -1,12 +1,12 @@
 /// @file test_mpm_mpi_setup.cpp
 /// The distributed set-up of mpm-frag on MPI ranks (label mpi; part of test_mpm_mpi): every rank
-/// generating the scene itself and keeping its own slab (distributed_setup) must give, on every
-/// rank, the same particles in the same order, the same material state arrays and the same cuts
+/// generating the scene itself and keeping its own box (distributed_setup) must give, on every
+/// rank, the same particles in the same order, the same material state arrays and the same tree
 /// as the full set-up split by DomainSolver(comm, build_setup(scene)), bit for bit; and the
 /// bodies' totals (mass, centre of mass: exact bodies shifted and scaled over all their
 /// particles) and the drives' id ranges of the whole scene. Scene: a Tonge–Ramesh sphere and an
 /// elastic sphere (exact bodies, the default) and a driven platen. And the cuts' rule
-/// (balanced_cuts): each cut is the plane boundary nearest its target.
+/// (nearest_cut): each cut is the plane boundary nearest its target; the ORB (orb_cuts).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -56,19 +56,19 @@ TEST(MpmMpi, DistributedSetupEqualsTheFullSetupSplit) {
   const common::Scene scene = common::Scene::parse(schema, kScene, "setup-test");
   const mpmfrag::Setup full = build_setup(scene);
   DomainSolver a(MPI_COMM_WORLD, full);
-  const std::pair<mpmfrag::Setup, std::vector<int>> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
+  const std::pair<mpmfrag::Setup, mpi::Orb> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
   DomainSolver b(MPI_COMM_WORLD, part.first, part.second);
   // the collectives first (an assertion that fails on some ranks only must not leave the others
   // waiting in one)
   long long n[2] = {static_cast<long long>(b.local().particles().size()), static_cast<long long>(part.first.particles.size())};
   b.comm().sum(n, 2);
-  const std::pair<mpmfrag::Setup, std::vector<int>> none = mpi::distributed_setup(MPI_COMM_WORLD, scene, false);
+  const std::pair<mpmfrag::Setup, mpi::Orb> none = mpi::distributed_setup(MPI_COMM_WORLD, scene, false);
   EXPECT_EQ(none.first.particles.size(), 0u) << "a restart's set-up holds no particles";
   EXPECT_EQ(none.first.materials.size(), full.materials.size());
   EXPECT_EQ(n[0], static_cast<long long>(full.particles.size()));
   EXPECT_EQ(n[1], static_cast<long long>(full.particles.size())) << "each particle generated on exactly one rank";
-  // on every rank: the same cuts, particles (every array, bit for bit) and material ranges
-  EXPECT_EQ(part.second, a.slabs().cut);
+  // on every rank: the same tree, particles (every array, bit for bit) and material ranges
+  EXPECT_TRUE(part.second == a.orb());
   const ParticleSet &pa = a.local().particles(), &pb = b.local().particles();
   ASSERT_EQ(pa.size(), pb.size());
   ParticleSet::for_each_array([&](const auto& arr) { EXPECT_TRUE(pa.*arr.member == pb.*arr.member) << arr.info.name; });
@@ -100,19 +100,15 @@ TEST(MpmMpi, DistributedSetupEqualsTheFullSetupSplit) {
   EXPECT_EQ(part.first.drives[0].id_end, full.drives[0].id_end);
   EXPECT_EQ(part.first.drives[0].mass, part.first.bodies[2].mass);
   if (rank() == 0)
-    std::printf("%d ranks: distributed set-up of %zu particles equals the full set-up split (cuts", ranks(),
-                full.particles.size());
-  if (rank() == 0) {
-    for (int c : part.second) std::printf(" %d", c);
-    std::printf(")\n");
-  }
+    std::printf("%d ranks: distributed set-up of %zu particles equals the full set-up split (%s)\n", ranks(),
+                full.particles.size(), part.second.describe().c_str());
 }
 
 }  // namespace
 
 namespace {
 
-// A small body at one end of a long domain: the slabs balance particles, so the last rank holds
+// A small body at one end of a long domain: the boxes balance particles, so the last rank holds
 // nearly all the empty planes, far more than 1/P of the grid.
 const std::string kLopsided = R"(
 [grid]
@@ -129,19 +125,13 @@ min = [0.0, 0.02, 0.02]
 max = [0.12, 0.08, 0.08]
 )";
 
-TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
+TEST(MpmMpi, EachRankChecksTheMemoryOfItsOwnBoxBeforeTheGrid) {
   static const common::Schema schema = mpm_schema();
   const common::Scene scene = common::Scene::parse(schema, kLopsided, "lopsided");
-  const std::pair<mpmfrag::Setup, std::vector<int>> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
+  const std::pair<mpmfrag::Setup, mpi::Orb> part = mpi::distributed_setup(MPI_COMM_WORLD, scene);
   // every rank's need, as check_memory computes it (box nodes and particles)
-  const std::vector<int>& cut = part.second;
-  const common::GridInfo& g = part.first.grid;
-  const int a = 0;  // the longest axis
   std::vector<double> need(ranks());
-  for (int r = 0; r < ranks(); ++r) {
-    const int lo = std::max(0, cut[r] - 2), hi = std::min(g.shape[a], cut[r + 1] + 2);
-    need[r] = 88.0 * (hi - lo) * g.shape[1] * g.shape[2];
-  }
+  for (int r = 0; r < ranks(); ++r) need[r] = 88.0 * static_cast<double>(part.second.held(r).size());
   double mine = process_bytes(0.0, part.first.materials);  // this rank's particles
   std::vector<double> parts(ranks(), 0.0);
   parts[rank()] = mine;
@@ -152,7 +142,7 @@ TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
   for (double n : need) total_need += n;
   const int worst = static_cast<int>(std::max_element(need.begin(), need.end()) - need.begin());
   EXPECT_EQ(worst, ranks() - 1) << "the rank beside the empty space needs the most";
-  // the first check's share (total / P) would let this limit pass; the slab's own need does not
+  // the first check's share (total / P) would let this limit pass; the box's own need does not
   const double limit = 0.97 * largest;
   EXPECT_LT(estimate_memory(scene).total() / ranks(), limit);
   mpi::DomainOptions opt;
@@ -164,7 +154,7 @@ TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
   } catch (const common::InputError& e) {
     what = e.what();
   }
-  EXPECT_NE(what.find("MPI rank " + std::to_string(worst) + "'s slab"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
+  EXPECT_NE(what.find("MPI rank " + std::to_string(worst) + "'s box"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
   EXPECT_NE(what.find("grid.cell_size"), std::string::npos);
   // the node's ranks together (all on this machine) against the node's memory, each rank within
   // its own limit
@@ -176,7 +166,7 @@ TEST(MpmMpi, EachRankChecksItsOwnSlabsMemoryBeforeTheGrid) {
   } catch (const common::InputError& e) {
     what = e.what();
   }
-  EXPECT_NE(what.find("'s slab"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
+  EXPECT_NE(what.find("'s box"), std::string::npos) << "rank " << rank() << ": '" << what << "'";
   // enough memory: the solver is built
   opt.node_memory = 1.01 * total_need;
   opt.process_memory = 1.01 * largest;
@@ -208,6 +198,10 @@ TEST(MpmMpi, RebalancingThatWouldOverfillARankIsLeftOut) {
   for (int r = 1; r < ranks(); ++r) cut[r] = S - (ranks() - r) * W;
   cut[0] = 0;
   cut[ranks()] = S;
+  mpi::Orb slabs;  // slabs along x as a tree of cuts
+  slabs.shape = full.grid.shape;
+  slabs.min_width = W;
+  ASSERT_TRUE(slabs.set(mpi::Orb::slabs(0, cut)));
   const double plane = 88.0 * full.grid.shape[1] * full.grid.shape[2];
   mpi::DomainOptions opt;
   opt.rebalance_every = 1;
@@ -216,47 +210,47 @@ TEST(MpmMpi, RebalancingThatWouldOverfillARankIsLeftOut) {
   // the last rank may hold twice its present box, far less than the empty planes balancing hands it
   opt.process_memory = rank() == ranks() - 1 ? 2.0 * (W + 2) * plane : 1e18;
   {
-    DomainSolver d(MPI_COMM_WORLD, mine, cut, opt);
+    DomainSolver d(MPI_COMM_WORLD, mine, slabs, opt);
     for (int k = 0; k < 3; ++k) d.step(0.1 * d.stable_dt());
     EXPECT_EQ(d.stats().rebalances, 0);
     EXPECT_EQ(d.stats().rebalances_skipped, 2);  // steps 1 and 2 (none at step 0)
-    EXPECT_EQ(d.slabs().cut, cut);
+    EXPECT_TRUE(d.orb() == slabs);
     long long n = static_cast<long long>(d.local().particles().size());
     d.comm().sum(&n, 1);
     EXPECT_EQ(n, static_cast<long long>(full.particles.size()));
   }
-  opt.process_memory = 1e18;  // room: the cuts balance the particles
-  DomainSolver d(MPI_COMM_WORLD, mine, cut, opt);
+  opt.process_memory = 1e18;  // room: the boxes balance the particles
+  DomainSolver d(MPI_COMM_WORLD, mine, slabs, opt);
   for (int k = 0; k < 3; ++k) d.step(0.1 * d.stable_dt());
   EXPECT_GE(d.stats().rebalances, 1);
   EXPECT_EQ(d.stats().rebalances_skipped, 0);
-  EXPECT_NE(d.slabs().cut, cut);
+  EXPECT_FALSE(d.orb() == slabs);
 }
 
 }  // namespace
 
-// The cuts (balanced_cuts, slabs.cpp): each is the plane boundary whose cumulative count is nearest
-// its target r N / R. A heavy plane just past the half (a thin shocked shell on a coarse grid):
-// counts 1 1 1 10 1 1 (N = 15) are cut before it (3 | 12), not after it (13 | 2, the first
-// crossing, the rule before 2026-12-07). For 2 ranks that is the cut with the smallest larger
-// slab: checked against every cut on random counts with heavy planes (the first-crossing rule
-// fails this). Uniform counts are cut evenly, a tie keeps the first crossing, the narrowest slab
-// binds, and with 3 ranks each cut takes its own nearest boundary.
+// The cut of a node of the tree (nearest_cut, orb.cpp): the plane boundary whose cumulative count
+// is nearest its target N n_l / n. A heavy plane just past the half (a thin shocked shell on a
+// coarse grid): counts 1 1 1 10 1 1 (N = 15) are cut before it (3 | 12), not after it (13 | 2, the
+// first crossing, the rule before 2026-12-07). For halves that is the cut with the smallest
+// larger side: checked against every cut on random counts with heavy planes (the first-crossing
+// rule fails this). Uniform counts are cut evenly, a tie keeps the first crossing, the narrowest
+// side binds, a third takes its own nearest boundary.
 TEST(MpmMpiCuts, EachCutIsTheBoundaryNearestItsTarget) {
-  using V = std::vector<int>;
-  EXPECT_EQ(mpi::balanced_cuts({1, 1, 1, 10, 1, 1}, 2, 1), (V{0, 3, 6}));
-  EXPECT_EQ(mpi::balanced_cuts(std::vector<long long>(12, 5), 2, 1), (V{0, 6, 12}));
-  EXPECT_EQ(mpi::balanced_cuts(std::vector<long long>(12, 5), 3, 1), (V{0, 4, 8, 12}));
-  EXPECT_EQ(mpi::balanced_cuts({1, 4, 1, 4}, 2, 1), (V{0, 2, 4}));              // 5 | 5
-  EXPECT_EQ(mpi::balanced_cuts({2, 2, 2, 2, 2}, 2, 1), (V{0, 3, 5}));           // 6 | 4 or 4 | 6: the first
-  EXPECT_EQ(mpi::balanced_cuts({10, 1, 1, 1, 1, 1, 1, 1}, 2, 3), (V{0, 3, 8}));  // nearest is 1: W = 3 binds
-  std::vector<long long> c(30, 1);  // N = 108, targets 36 and 72: 49 | 9 | 50
+  using W = std::vector<long long>;
+  EXPECT_EQ(mpi::nearest_cut({1, 1, 1, 10, 1, 1}, 1, 2, 1, 5), 3);
+  EXPECT_EQ(mpi::nearest_cut(W(12, 5), 1, 2, 1, 11), 6);
+  EXPECT_EQ(mpi::nearest_cut(W(12, 5), 1, 3, 1, 11), 4);
+  EXPECT_EQ(mpi::nearest_cut({1, 4, 1, 4}, 1, 2, 1, 3), 2);               // 5 | 5
+  EXPECT_EQ(mpi::nearest_cut({2, 2, 2, 2, 2}, 1, 2, 1, 4), 3);            // 6 | 4 or 4 | 6: the first
+  EXPECT_EQ(mpi::nearest_cut({10, 1, 1, 1, 1, 1, 1, 1}, 1, 2, 3, 5), 3);  // nearest is 1: W = 3 binds
+  W c(30, 1);  // N = 108, target 36: 49 | 59 (after the heavy plane 9: 9 | 99 is farther)
   c[9] = c[19] = 40;
-  EXPECT_EQ(mpi::balanced_cuts(c, 3, 2), (V{0, 10, 19, 30}));
+  EXPECT_EQ(mpi::nearest_cut(c, 1, 3, 2, 28), 10);
   std::mt19937_64 rng(5);
   for (int k = 0; k < 500; ++k) {
     const int planes = 4 + static_cast<int>(rng() % 20);
-    std::vector<long long> n(static_cast<std::size_t>(planes));
+    W n(static_cast<std::size_t>(planes));
     for (auto& v : n) v = rng() % 7 == 0 ? static_cast<long long>(rng() % 1000) : static_cast<long long>(rng() % 20);
     long long total = 0;
     for (long long v : n) total += v;
@@ -265,9 +259,126 @@ TEST(MpmMpiCuts, EachCutIsTheBoundaryNearestItsTarget) {
       left += n[static_cast<std::size_t>(P - 1)];
       best = std::min(best, std::max(left, total - left));
     }
-    const V cut = mpi::balanced_cuts(n, 2, 1);
+    const int cut = mpi::nearest_cut(n, 1, 2, 1, planes - 1);
     long long got = 0;
-    for (int q = 0; q < cut[1]; ++q) got += n[static_cast<std::size_t>(q)];
+    for (int q = 0; q < cut; ++q) got += n[static_cast<std::size_t>(q)];
     EXPECT_EQ(std::max(got, total - got), best) << "case " << k;
+  }
+}
+
+// The ORB (orb_cuts, orb.cpp) of random weights on a 23 x 17 x 11 grid for 1 to 9 ranks: the
+// boxes partition the grid (owner() agrees with the box containing every cell), each node is cut
+// along its box's longest axis at the nearest_cut of its own histogram for floor(n / 2) ranks,
+// every side at least W planes; the file form round-trips; slab cuts as a chain give the slabs'
+// boxes; too many ranks for the grid is an input error naming the ranks.
+TEST(MpmMpiCuts, OrbBoxesPartitionTheGridAndEachCutIsNearestItsShare) {
+  const Eigen::Vector3i shape(23, 17, 11);
+  std::mt19937_64 rng(11);
+  std::vector<long long> w(static_cast<std::size_t>(shape.prod()));
+  for (auto& v : w) v = rng() % 9 == 0 ? static_cast<long long>(rng() % 500) : static_cast<long long>(rng() % 4);
+  auto at = [&](const Eigen::Vector3i& c) { return w[static_cast<std::size_t>(c[0] + shape[0] * (c[1] + shape[1] * c[2]))]; };
+  auto weigh = [&](const std::vector<mpi::OrbRequest>& req, const std::function<int(const Eigen::Vector3i&)>& locate) {
+    std::vector<std::vector<long long>> h(req.size());
+    for (std::size_t q = 0; q < req.size(); ++q) h[q].assign(static_cast<std::size_t>(req[q].box.hi[req[q].axis] - req[q].box.lo[req[q].axis]), 0);
+    for (int k = 0; k < shape[2]; ++k)
+      for (int j = 0; j < shape[1]; ++j)
+        for (int i = 0; i < shape[0]; ++i) {
+          const Eigen::Vector3i c(i, j, k);
+          const int q = locate(c);
+          if (q >= 0) h[q][c[req[q].axis] - req[q].box.lo[req[q].axis]] += at(c);
+        }
+    return h;
+  };
+  for (int R = 1; R <= 9; ++R) {
+    const mpi::Orb orb = mpi::orb_cuts(shape, R, 2, 3, weigh);
+    ASSERT_EQ(orb.ranks(), R);
+    ASSERT_EQ(orb.split.size(), static_cast<std::size_t>(R - 1));
+    long long cells = 0;
+    for (const mpi::Box& b : orb.own()) cells += b.size();
+    EXPECT_EQ(cells, shape.prod()) << R;
+    for (int k = 0; k < shape[2]; ++k)
+      for (int j = 0; j < shape[1]; ++j)
+        for (int i = 0; i < shape[0]; ++i) {
+          const Eigen::Vector3i c(i, j, k);
+          const int r = orb.owner(c);
+          ASSERT_TRUE(r >= 0 && r < R && orb.own()[static_cast<std::size_t>(r)].contains(c)) << R << ": cell " << c.transpose();
+        }
+    // every split again from its node's box: walk the preorder with the boxes
+    struct Item {
+      mpi::Box box;
+      int n;
+    };
+    std::vector<Item> stack{{mpi::Box{Eigen::Vector3i::Zero(), shape}, R}};
+    std::size_t k = 0;
+    while (!stack.empty()) {
+      const Item it = stack.back();
+      stack.pop_back();
+      if (it.n == 1) continue;
+      const mpi::Orb::Split& s = orb.split[k++];
+      const Eigen::Vector3i wd = it.box.hi - it.box.lo;
+      int a = 0;
+      for (int d = 1; d < 3; ++d)
+        if (wd[d] > wd[a]) a = d;
+      EXPECT_EQ(s.axis, a) << R;
+      EXPECT_EQ(s.left, it.n / 2) << R;
+      std::vector<long long> h(static_cast<std::size_t>(wd[a]), 0);
+      for (int z = it.box.lo[2]; z < it.box.hi[2]; ++z)
+        for (int y = it.box.lo[1]; y < it.box.hi[1]; ++y)
+          for (int x = it.box.lo[0]; x < it.box.hi[0]; ++x) {
+            const Eigen::Vector3i c(x, y, z);
+            h[static_cast<std::size_t>(c[a] - it.box.lo[a])] += at(c);
+          }
+      const bool roomy = wd[a] >= 3 * it.n;
+      const int lo = roomy ? 3 * s.left : 3, hi = wd[a] - (roomy ? 3 * (it.n - s.left) : 3);
+      EXPECT_EQ(s.cut - it.box.lo[a], mpi::nearest_cut(h, s.left, it.n, lo, hi)) << R;
+      EXPECT_GE(s.cut - it.box.lo[a], 3);
+      EXPECT_GE(it.box.hi[a] - s.cut, 3);
+      mpi::Box lower = it.box, upper = it.box;
+      lower.hi[a] = upper.lo[a] = s.cut;
+      stack.push_back({upper, it.n - s.left});
+      stack.push_back({lower, s.left});
+    }
+    mpi::Orb back;
+    back.shape = shape;
+    back.min_width = 3;
+    ASSERT_TRUE(back.set(mpi::Orb::unflat(orb.flat())));
+    EXPECT_TRUE(back == orb);
+    EXPECT_EQ(back.own(), orb.own());
+  }
+  mpi::Orb sl;  // slab cuts along y
+  sl.shape = shape;
+  sl.min_width = 3;
+  ASSERT_TRUE(sl.set(mpi::Orb::slabs(1, {0, 4, 9, 13, 17})));
+  for (int r = 0; r < 4; ++r) {
+    const int lo[] = {0, 4, 9, 13, 17};
+    EXPECT_EQ(sl.own()[static_cast<std::size_t>(r)], (mpi::Box{Eigen::Vector3i(0, lo[r], 0), Eigen::Vector3i(23, lo[r + 1], 11)}));
+  }
+  EXPECT_FALSE(sl.set(mpi::Orb::slabs(1, {0, 4, 6, 13, 17})));  // a slab of 2 planes: too narrow
+  EXPECT_EQ(sl.ranks(), 4) << "a refused tree leaves the one before";
+  EXPECT_FALSE(sl.set({{0, 10, 2}}));                       // left must be in [1, n - 1]
+  EXPECT_FALSE(sl.set({{3, 10, 1}}));                       // no axis 3
+  EXPECT_FALSE(sl.set({{0, 10, 1}, {0, 5, 1}}));              // the second cut lies outside its node's box [10, 23)
+  EXPECT_TRUE(sl.set({{0, 10, 2}, {1, 8, 1}, {1, 8, 1}}));   // 2 x 2 boxes
+  EXPECT_EQ(sl.owner(Eigen::Vector3i(12, 3, 0)), 2);
+  EXPECT_EQ(sl.owner(Eigen::Vector3i(12, 9, 0)), 3);
+  EXPECT_EQ(sl.owner(Eigen::Vector3i(9, 9, 10)), 1);
+  // all the weight in the first planes of a box narrower than W R along its longest axis: each
+  // side keeps the planes its ranks need across the other two axes (24 x 8 x 6, 8 ranks of W = 4:
+  // up to 12 boxes of 4 x 4 x 6 fit; the rule "W a side" left a 4 x 4 x 6 box for 2 ranks and threw)
+  const Eigen::Vector3i thin(24, 8, 6);
+  const mpi::Orb packed = mpi::orb_cuts(thin, 8, 2, 4, [&](const std::vector<mpi::OrbRequest>& req, const std::function<int(const Eigen::Vector3i&)>&) {
+    std::vector<std::vector<long long>> h(req.size());
+    for (std::size_t q = 0; q < req.size(); ++q) {
+      h[q].assign(static_cast<std::size_t>(req[q].box.hi[req[q].axis] - req[q].box.lo[req[q].axis]), 1);
+      if (req[q].axis == 0 && req[q].box.lo[0] == 0) h[q][0] = 1000000;
+    }
+    return h;
+  });
+  for (const mpi::Box& b : packed.own()) EXPECT_GE((b.hi - b.lo).minCoeff(), 4) << packed.describe();
+  try {
+    (void)mpi::orb_cuts(shape, 200, 2, 3, weigh);
+    ADD_FAILURE() << "200 ranks on 23 x 17 x 11 cells of at least 3 planes";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("200 MPI ranks"), std::string::npos) << e.what();
   }
 }

@@ -1,6 +1,6 @@
 /// @file test_mpm_mpi_stiff.cpp
 /// Stiff cases of mpm-frag on MPI (label mpi; part of test_mpm_mpi, whose main() initialises MPI):
-/// ranks that start without particles, a body flying through the slabs of several ranks and the
+/// ranks that start without particles, a body flying through the boxes of several ranks and the
 /// rebalancing that follows it, against one rank (tolerances as in test_mpm_mpi.cpp: ~1e-12 of
 /// each field's scale, mass to N eps, momentum to 1e-12).
 #include <gtest/gtest.h>
@@ -45,7 +45,7 @@ velocity = [400.0, 30.0, 0.0]
 
 TEST(MpmMpi, RanksWithoutParticlesAndAFlyingBodyMatchOneRank) {
   // A small elastic sphere (3 cells across) flying at 400 m/s along a 30-cell
-  // column: the slabs of the other ranks start empty (every slab keeps 4 planes), the sphere
+  // column: the boxes of the other ranks start empty (every box keeps 4 planes), the sphere
   // crosses into them and the rebalancing follows it.
   const auto setup = column_setup;
   const double t_end = 4e-4;  // 16 cm
@@ -100,8 +100,8 @@ TEST(MpmMpi, RanksWithoutParticlesAndAFlyingBodyMatchOneRank) {
 
 TEST(MpmMpi, DebrisJumpingEverySlabInOneStepAndACollapseOntoOneRankMatchOneRank) {
   // The same column without rebalancing: after 1e-5 s every particle is moved 0.12 m (12 cells,
-  // more than any slab; 0.12 m in one step of ~5 us is > 5 km/s) on both the distributed and the
-  // serial run. The migration must deliver every particle across all the slabs in one step, the
+  // more than any box; 0.12 m in one step of ~5 us is > 5 km/s) on both the distributed and the
+  // serial run. The migration must deliver every particle across all the boxes in one step, the
   // last rank then holds all of them (the collapse onto one rank) and the others none; an
   // explicit rebalancing spreads them again. Fields against one rank as above.
   const auto setup = column_setup;

@@ -1,12 +1,12 @@
 /// @file test_mpm_mpi_work.cpp
-/// Slab cuts weighted by work (label mpi; part of test_mpm_mpi; mpm/mpi/domain.hpp): each
+/// ORB boxes weighted by work (label mpi; part of test_mpm_mpi; mpm/mpi/domain.hpp): each
 /// particle weighs w_p = round(kWorkUnit (1 + sum_f work_f s_{f,p})) over its style's cost fields
 /// (StateField::work; Tonge–Ramesh's damage sub-steps), the imbalance is max_r W_r / mean_r W_r
 /// and a rebalancing cuts the histogram of work, not of particles. Scene: an elastic block at
 /// rest along the grid, its style given a cost field of 10 in the upper half of the block along
-/// the split axis (a shocked region): the cuts by count put the heavy half on the last ranks
-/// (imbalance ~1.8 on 2 and 3 ranks); after one rebalancing the cuts are balanced_cuts of the global work
-/// histogram, the imbalance is below 1.1 and the cost field arrived with its particles.
+/// the longest axis (a shocked region): the boxes by count put the heavy half on the last ranks
+/// (imbalance ~1.8 on 2 and 3 ranks); after one rebalancing the boxes are the ORB of the global
+/// work, the imbalance is below 1.1 and the cost field arrived with its particles.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -108,32 +108,27 @@ TEST(MpmMpiWork, RebalancingCutsTheWorkNotTheCount) {
   mpi::DomainOptions opt;
   opt.rebalance_every = 1;
   opt.imbalance_threshold = 1.1;
-  // room for the whole grid and 4 x every particle's bytes: any slab by count fits, its particle
+  // room for the whole grid and 4 x every particle's bytes: any box by count fits, its particle
   // bytes taken as 64 x their work would not (the memory check counts particles)
   opt.node_memory = 1e18;
   opt.process_memory = 88.0 * full.grid.shape.cast<double>().prod() + 4.0 * process_bytes(0.0, full.materials);
   DomainSolver d(MPI_COMM_WORLD, full, opt);
-  const std::vector<int> by_count = d.slabs().cut;
+  const mpi::Orb by_count = d.orb();
   const double before = d.imbalance();
-  // the global histogram of work per plane, from the full set-up (the particles stay at rest)
-  const int a = d.slabs().axis;
-  const common::GridInfo& g = full.grid;
-  std::vector<long long> hist(static_cast<std::size_t>(g.shape[a]), 0);
+  // the ORB of the work, from the full set-up (the particles stay at rest)
   const std::vector<long long> w = mpi::work_weights(full.particles, full.materials);
   long long total = 0;
-  for (std::size_t p = 0; p < w.size(); ++p) {
-    hist[static_cast<std::size_t>(std::floor((full.particles.x[3 * p + a] - g.origin[a]) / g.cell_size[a]))] += w[p];
-    total += w[p];
-  }
-  const std::vector<int> by_work = mpi::balanced_cuts(hist, ranks(), d.slabs().min_width);
-  ASSERT_NE(by_work, by_count);
+  for (std::size_t p = 0; p < w.size(); ++p) total += w[p];
+  const mpi::Orb by_work = orb_of(full.grid, ranks(), d.orb().min_width, full.particles, w);
+  ASSERT_FALSE(by_work == by_count);
+  EXPECT_TRUE(orb_of(full.grid, ranks(), d.orb().min_width, full.particles) == by_count);
   EXPECT_GT(before, 1.7) << "the heavy half on the last ranks";
   for (int k = 0; k < 2; ++k) d.step(0.1 * d.stable_dt());  // checks at step 1: a rebalancing
   EXPECT_EQ(d.stats().rebalances, 1);
   EXPECT_EQ(d.stats().rebalances_skipped, 0);
   EXPECT_EQ(d.stats().imbalance_checks, 1);
   EXPECT_DOUBLE_EQ(d.stats().imbalance_max, before);
-  EXPECT_EQ(d.slabs().cut, by_work);
+  EXPECT_TRUE(d.orb() == by_work) << d.orb().describe() << " instead of " << by_work.describe();
   EXPECT_LT(d.imbalance(), 1.1);
   // the cost field moved with its particles: the same total work, and each particle's field
   // still says where it was heavy (the block is at rest: x changed by far less than a cell)
@@ -148,15 +143,15 @@ TEST(MpmMpiWork, RebalancingCutsTheWorkNotTheCount) {
     ASSERT_EQ(m.state.back()[p - m.begin], s.particles().x[3 * p] > kHeavyFrom ? kCost : 0.0) << p;
 }
 
-// A restart on another rank count (no cuts in the file's layout; each rank passes its block of the
+// A restart on another rank count (no tree in the file's layout; each rank passes its block of the
 // file's rows) cuts the work, not the count.
 TEST(MpmMpiWork, RestartOnAnotherRankCountCutsTheWork) {
   const mpmfrag::Setup full = costly_block();
   DomainSolver ref(MPI_COMM_WORLD, full);
-  const std::vector<int> by_count = ref.slabs().cut;
-  ref.rebalance();  // the cuts of the work histogram (rebalance() recomputes them unconditionally)
-  const std::vector<int> by_work = ref.slabs().cut;
-  ASSERT_NE(by_work, by_count);
+  const mpi::Orb by_count = ref.orb();
+  ref.rebalance();  // the tree of the work (rebalance() recomputes it unconditionally)
+  const mpi::Orb by_work = ref.orb();
+  ASSERT_FALSE(by_work == by_count);
   const std::size_t n = full.particles.size();
   const std::size_t lo = n * static_cast<std::size_t>(rank()) / static_cast<std::size_t>(ranks());
   const std::size_t hi = n * static_cast<std::size_t>(rank() + 1) / static_cast<std::size_t>(ranks());
@@ -164,10 +159,10 @@ TEST(MpmMpiWork, RestartOnAnotherRankCountCutsTheWork) {
   std::fill(keep.begin() + static_cast<std::ptrdiff_t>(lo), keep.begin() + static_cast<std::ptrdiff_t>(hi), 1);
   mpmfrag::Setup part = full;
   mpi::select_particles(full.particles, full.materials, keep, part.particles, part.materials);
-  mpi::Layout layout;  // no cuts: written on another rank count
+  mpi::Layout layout;  // no tree: written on another rank count
   layout.first = lo;
   DomainSolver d(MPI_COMM_WORLD, part, layout);
-  EXPECT_EQ(d.slabs().cut, by_work);
+  EXPECT_TRUE(d.orb() == by_work);
   long long total = static_cast<long long>(d.local().particles().size());
   d.comm().sum(&total, 1);
   EXPECT_EQ(total, static_cast<long long>(n));

@@ -10,7 +10,10 @@
 /// snapshot part, /mpm_state/particles, materials/<m>, mpi/rank and index) through the serial
 /// writer's own code (mpm/checkpoint_rows.hpp), so the file is the one the serial writer makes
 /// of all the particles (h5diff-equal, test_mpm_mpi_files.cpp): the serial layout, plus the group
-///   /mpm_state/mpi   attrs ranks (N), cuts (the N+1 slab cuts, node planes);
+///   /mpm_state/mpi   attrs ranks (N), orb (the tree of cuts, orb.hpp: axis, cell plane and
+///                    ranks on the lower side per split, 3 (N - 1) integers in preorder; files
+///                    written before 2026-12-07 hold slab cuts instead, attr cuts: the N+1
+///                    planes along the grid's longest axis, and still restart);
 ///                    datasets rank (int32) and index (uint64): per particle of the file, the
 ///                    rank that held it and its index there; outflow_totals (ranks x 16): each
 ///                    rank's totals of the particles it removed at the grid edge (pack_totals)
@@ -30,8 +33,8 @@
 /// or the whole record, and checks the run
 /// identity; DomainSolver(comm, setup, layout) then sends each particle to its rank with its order
 /// key there (one alltoallv): on N ranks each rank gets back its particles in their order
-/// and the cuts (bit-identical continuation); on M != N ranks (or from a serial checkpoint) the
-/// cuts balance the particle count and each rank keeps the file order (agreement with the
+/// and the tree of cuts (bit-identical continuation); on M != N ranks (or from a serial
+/// checkpoint) the tree balances the work and each rank keeps the file order (agreement with the
 /// uninterrupted run to round-off: the nodal sums are added in another order).
 ///
 /// Errors while reading (a bad file, another run's checkpoint) are thrown on every rank with the

@@ -1,31 +1,27 @@
 /// @file domain.hpp
 /// mpm-frag on MPI (issue 19, item 3; MPI build only, SUITE_MPI=ON): the background grid split
-/// among ranks into slabs, ghost nodes, particle migration, rebalancing and global reductions.
+/// among ranks into boxes (ORB), ghost nodes, particle migration, rebalancing and global reductions.
 /// One rank runs one Solver (mpm/solver.hpp) on a box of the global grid (Subdomain); the
 /// physics is the serial code's, untouched. With OpenMP threads inside each rank (hybrid).
 ///
-/// ## Decomposition (slabs.cpp)
-/// The grid (S_x x S_y x S_z nodes, global indices) is cut along its longest axis a into R slabs
-/// of node planes: rank r OWNS the planes [P_r, P_{r+1}), P_0 = 0, P_R = S_a, and the particles
-/// whose cell c_p = floor((x_p,a - o_a) / h_a) lies in [P_r, P_{r+1}). The set-up's cuts balance
-/// the particle count (rebalancing and a restart on another rank count the work, 2. below): with
-/// n(c) particles in cell c, N = sum n and S(P) = sum_{c < P} n(c),
-///   P* = min { P : S(P) >= r N / R },  P_r = P* - 1 if r N / R - S(P* - 1) < S(P*) - r N / R
-///   else P*  (the boundary nearest the target),  clamped so that P_{r+1} - P_r >= W.
-/// For R = 2 this minimises the larger slab; for R >= 3 each cut is nearest its own target,
-/// which bounds every slab within one plane's count of N / R but is not always the optimum.
-/// A uGIMP particle of cell c touches nodes c-1 .. c+2 on that axis (shape_functions.hpp; linear:
-/// c .. c+1), so rank r HOLDS the box [P_r - H, P_{r+1} + H) clipped to the grid, H = 2 ghost
-/// planes on each side, and the whole grid on the other two axes. With W = max(2H, 2g + 1 - H)
-/// (g = ghost_layers of the face conditions) only neighbouring ranks' boxes overlap, in the 2H
-/// planes [P_r - H, P_r + H) around each cut, and the mirror source of every symmetry layer lies
-/// inside the box that holds the layer.
+/// ## Decomposition (orb.hpp, orb.cpp)
+/// The grid's cells (S_x x S_y x S_z, global indices; cell c along an axis lies between nodes c
+/// and c + 1) are split among the R ranks by orthogonal recursive bisection: each node of a binary
+/// tree cuts its box along its longest axis where the cumulative weight is nearest the share of
+/// its lower ranks (orb.hpp gives the rule). Rank r OWNS its leaf box O_r (cells and nodes) and
+/// the particles whose cell c_p = floor((x_p - o) / h) lies in it, and HOLDS O_r grown by H = 2
+/// nodes a side, clipped to the grid (a uGIMP particle of cell c touches nodes c-1 .. c+2). The
+/// set-up's tree balances the particle count, a rebalancing and a restart on another rank count
+/// the work (2. below). Every side of a cut is at least W = max(2H, 2g + 1 - H) planes wide (g =
+/// ghost_layers of the face conditions), so the mirror source of every symmetry layer lies inside
+/// the box that holds the layer. On two ranks the tree is one cut along the longest axis: the
+/// slabs of the previous decomposition, with the same cut.
 ///
 /// ## Step (DomainSolver::step)
-///   1. migration (migrate.cpp): every particle whose cell left the owner's slab is sent, with ALL
+///   1. migration (migrate.cpp): every particle whose cell left the owner's box is sent, with ALL
 ///      its state (every ParticleSet array, ParticleSet::for_each_array, and every state array of
 ///      its material's style, Tonge–Ramesh included), to the owner of its cell (any rank, one
-///      sparse exchange, Comm::sparse: debris crossing several slabs in one step is fine, and a
+///      sparse exchange, Comm::sparse: debris crossing several boxes in one step is fine, and a
 ///      rank exchanges messages only with the ranks it sends to or receives from). Arrivals are appended per
 ///      material after the kept particles, in (source rank, sender order): material ranges stay
 ///      contiguous and the order is a function of the state alone (deterministic). A particle
@@ -35,21 +31,24 @@
 ///   2. every `rebalance_every` steps (default every step): imbalance I = max_r W_r / mean_r W_r
 ///      of the ranks' work W_r = sum_p w_p (work_weights: a plain particle 1, a Tonge-Ramesh
 ///      particle 1 + 0.6 M with M its last update's damage sub-steps, in integer units); if
-///      I > threshold the cuts are recomputed as above from the global histogram of work w(c)
-///      instead of n(c) (an integer allreduce: exact; the set-up's cuts, before any update, count
-///      particles), each rank moves to its new box (Solver::set_subdomain) and the particles
-///      migrate (1.); unless a rank's new box and particles would not fit its memory
-///      (memory_ratio): then the cuts stay (DomainStats::rebalances_skipped).
+///      I > threshold the tree is recomputed as above from the global histograms of work (one
+///      integer allreduce per level of the tree: exact; the set-up's tree, before any update,
+///      counts particles), each rank moves to its new box (Solver::set_subdomain) and the
+///      particles migrate (1.); unless a rank's new box and particles would not fit its memory
+///      (memory_ratio), or the work leaves a box of several ranks too narrow to cut (orb.hpp):
+///      then the tree stays (DomainStats::rebalances_skipped).
 ///   3. the serial step on the box. After each P2G pass the GridExchange (halo.cpp) completes the
-///      shared nodes: rank r and its neighbour swap their partial sums of m_i, (m v)_i, f_i (the
-///      fields of that pass; after the MUSL re-projection the momenta) over the 2H overlap planes
-///      and both form   X_i = X_i^(r) + X_i^(r+1)   (one addition of two terms: IEEE addition is
-///      commutative, so owner and ghost hold the same bits). Only the nodes whose pass fields are
-///      not all +0 travel (with their ordinal in the overlap); a node not received gets + 0.0,
-///      which is the dense sum bit for bit (halo.cpp), so the halo is the nodes with mass. This is the "reverse sum to the
-///      owner, values sent back" of the issue with one message per neighbour instead of two: the
-///      grid update, the face conditions and G2P then run on owned and ghost nodes alike from
-///      identical inputs, which is what sending the updated owner values back would give.
+///      held nodes in two rounds: every rank sends its partial sums of the pass's fields (m_i,
+///      (m v)_i, f_i; after the MUSL re-projection the momenta) on the nodes it holds but does
+///      not own to their owners, the owner forms X_i = X_i^(owner) + X_i^(q_1) + X_i^(q_2) + ...
+///      over the other holders in ascending rank order, and sends X_i back to every holder: every
+///      holder then has the owner's bits (the issue's "summed to their owner and sent back"). With
+///      two holders of a node (every node on two ranks, or slabs) this is the one addition of two
+///      terms of the previous one-round swap, the same bits (IEEE addition is commutative). Only
+///      the nodes whose pass fields are not all +0 travel (with their ordinal in the shared box);
+///      a node not received gets + 0.0, which is the dense sum bit for bit (halo.cpp), so the halo is the
+///      nodes with mass. The grid update, the face conditions and G2P then run on owned and ghost
+///      nodes alike from identical inputs.
 ///   4. global reductions (Comm::max, exact): the signal speed max_p (s_p + |v_p|) of dt =
 ///      C h / max (every rank takes the same dt), the smallest particle mass of m_min, the
 ///      material extents, and the failure flags (a failure on one rank stops every rank).
@@ -66,9 +65,9 @@
 /// written by every rank together with collective parallel HDF5, snapshot_mpi.hpp and
 /// checkpoint_mpi.hpp, in the serial layout; a restart on any rank count reads each rank's part
 /// of the rows; velocity-driven bodies, drive.cpp; the set-up distributed, distributed_setup:
-/// every rank walks the whole lattice, O(N) work, but stores only its slab's particles; each
-/// rank's box and particles checked against its memory before the grid, check_memory.) Slabs
-/// only (ORB boxes would cut the surface/volume ratio of the halo at high rank counts).
+/// every rank walks the whole lattice once per level of the tree and once more, O(N log R)
+/// work, but stores only its box's particles; each rank's box and particles checked against its
+/// memory before the grid, check_memory.)
 #pragma once
 #include <mpi.h>
 
@@ -76,28 +75,11 @@
 #include <vector>
 
 #include "mpm/mpi/comm.hpp"
+#include "mpm/mpi/orb.hpp"
 #include "mpm/scene_setup.hpp"
 #include "mpm/solver.hpp"
 
 namespace mpmfrag::mpi {
-
-/// Slab decomposition along one axis (see the file comment).
-struct Slabs {
-  int axis = 0;           ///< the split axis a (longest grid axis)
-  int halo = 2;           ///< H: ghost planes on each side of a slab
-  int min_width = 4;      ///< W: fewest planes per slab
-  std::vector<int> cut;   ///< P_0 .. P_R (node planes)
-  int ranks() const { return static_cast<int>(cut.size()) - 1; }
-  /// The rank owning cell / node plane c (0 <= c < S_a).
-  int owner(int c) const;
-  /// The box rank r holds.
-  Subdomain box(int r, const common::GridInfo& g) const;
-};
-
-/// Cuts for `ranks` slabs of `planes` node planes balancing the counts n(c) (size planes), each
-/// cut the plane boundary whose cumulative count is nearest its target r N / R, each slab at
-/// least `min_width` planes. Throws common::InputError when planes < ranks * min_width.
-std::vector<int> balanced_cuts(const std::vector<long long>& count, int ranks, int min_width);
 
 /// Integer units of work per plain particle-step (work_weights).
 inline constexpr long long kWorkUnit = 64;
@@ -115,7 +97,7 @@ long long total_work(const ParticleSet& ps, const std::vector<MaterialSlot>& mat
 struct DomainOptions {
   /// Steps between imbalance checks (0: never rebalance). A check costs one pass over the
   /// particles and two integer reductions; every step, because a shock moves the Tonge-Ramesh
-  /// work between slabs within a few steps (mpm/README.md, MPI).
+  /// work between boxes within a few steps (mpm/README.md, MPI).
   int rebalance_every = 1;
   double imbalance_threshold = 1.2; ///< rebalance when max W_r / mean W_r exceeds this
   /// The memory a rank and a node offer (bytes; < 0: process_memory_limit(), node_memory()),
@@ -127,7 +109,7 @@ struct DomainOptions {
 struct DomainStats {
   long long migrated = 0;     ///< particles this rank sent away
   long long rebalances = 0;   ///< rebalancings (same on every rank)
-  long long rebalances_skipped = 0;  ///< rebalancings left out: a rank's new slab would not fit its memory
+  long long rebalances_skipped = 0;  ///< rebalancings left out: a rank's new box would not fit its memory, or a box could not be cut
   double imbalance_max = 0;   ///< largest work imbalance max W_r / mean W_r seen at a check (before rebalancing)
   double imbalance_sum = 0;   ///< its sum over the checks
   long long imbalance_checks = 0;  ///< checks (same on every rank)
@@ -135,10 +117,10 @@ struct DomainStats {
   double migrate_bytes = 0;   ///< bytes sent in migration (and gathers)
 };
 
-/// Halo swap of the shared nodes (halo.cpp): the GridExchange of a rank's Solver.
+/// Halo swap of the held nodes (halo.cpp): the GridExchange of a rank's Solver.
 class HaloExchange : public GridExchange {
  public:
-  HaloExchange(Comm& comm, const Slabs& slabs, const common::GridInfo& grid) : comm_(comm), slabs_(slabs), grid_(grid) {}
+  HaloExchange(Comm& comm, const Orb& orb) : comm_(comm), orb_(orb) {}
   void sum_shared(Solver::Node* nodes, int fields) override;
   void max(double* v, int n) override { comm_.max(v, n); }
   /// Rank order: every rank's values allgathered and added from rank 0 up.
@@ -148,19 +130,17 @@ class HaloExchange : public GridExchange {
 
  private:
   Comm& comm_;
-  const Slabs& slabs_;
-  const common::GridInfo& grid_;
-  std::vector<double> send_[2], recv_[2];
-  std::vector<std::int32_t> isend_[2], irecv_[2];
-  /// The overlap with neighbour side s (0: rank - 1, 1: rank + 1) in global planes [p0, p1) of
-  /// the split axis; false if there is no such neighbour.
-  bool overlap(int s, int& p0, int& p1) const;
-  /// With each neighbour: pack(p0, p1, out) fills what goes to it from the overlap's planes, the
-  /// neighbour's values come back (as many: it holds the same planes) and unpack(p0, p1, in)
-  /// reads them (halo.cpp).
-  template <class T, class Pack, class Unpack>
-  void swap_overlaps(std::vector<T> (&send)[2], std::vector<T> (&recv)[2], MPI_Datatype type, int tag, Pack&& pack,
-                     Unpack&& unpack);
+  const Orb& orb_;
+  std::vector<std::vector<double>> send_, recv_;
+  std::vector<std::vector<std::int32_t>> isend_, irecv_;
+  /// The other ranks q (ascending) and the boxes this rank shares with them: `ghost[k]` = H_r
+  /// intersected with O_q (nodes this rank holds and q owns), `mine[k]` = O_r intersected with
+  /// H_q (nodes it owns and q holds); either may be empty.
+  struct Shared {
+    std::vector<int> rank;
+    std::vector<Box> ghost, mine;
+  };
+  Shared shared() const;
 };
 
 /// The particles of `ps` with keep[p] != 0, materials kept contiguous (state arrays included).
@@ -183,11 +163,13 @@ void merge_particles(const ParticleSet& ps, const std::vector<MaterialSlot>& mat
                      const Arrivals& in, ParticleSet& out, std::vector<MaterialSlot>& out_mats);
 
 /// Where each particle of a gathered set (DomainSolver::gather), or of one rank's part of a
-/// checkpoint (checkpoint_mpi.hpp), came from: its rank and its index there, with the cuts. A
+/// checkpoint (checkpoint_mpi.hpp), came from: its rank and its index there, with the tree of cuts. A
 /// restart on as many ranks rebuilds every rank's particles in the same order from it (the same
 /// sums in the same order: bit-identical continuation).
 struct Layout {
-  std::vector<int> cut;              ///< the slab cuts P_0 .. P_R (empty: a one-rank checkpoint)
+  int ranks = 0;                     ///< ranks of the writer (0: a one-rank checkpoint, no layout)
+  std::vector<Orb::Split> split;     ///< its tree of cuts (Orb::split)
+  int slab_end = -1;                 ///< a file of slab cuts (before the boxes): its last plane, S_a
   std::size_t first = 0;             ///< the file row of this rank's first particle (a part)
   std::vector<std::int32_t> rank;    ///< per particle of the set: its rank
   std::vector<std::uint64_t> index;  ///< per particle: its index on that rank
@@ -208,30 +190,34 @@ struct OutflowRecord {
   std::vector<double> rank_totals;
 };
 
+/// The Subdomain of rank r: the box it holds, the box it owns.
+Subdomain subdomain_of(const Orb& orb, int r);
+
 /// Distributed set-up (collective; no rank holds every particle): every rank generates the
-/// scene's lattice itself (build_setup with a SetupPart), counts the particles per plane of the
-/// split axis (the cuts DomainSolver(comm, build_setup(scene)) would compute) and keeps the
-/// particles of its own slab, or none (`particles` false: a restart reads them; no cuts then).
-/// Returns the set-up and the cuts, for DomainSolver(comm, setup, cuts): the same particles in
-/// the same order on every rank as the full set-up.
-std::pair<Setup, std::vector<int>> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles = true);
+/// scene's lattice itself (build_setup with a SetupPart), once per level of the tree to count
+/// the particles per plane of each box being cut (the tree DomainSolver(comm,
+/// build_setup(scene)) would compute, no reduction: every rank counts the same) and once more to
+/// keep the particles of its own box, or none (`particles` false: a restart reads them; no tree
+/// then). Returns the set-up and the tree, for DomainSolver(comm, setup, orb): the same particles
+/// in the same order on every rank as the full set-up.
+std::pair<Setup, Orb> distributed_setup(MPI_Comm comm, const common::Scene& scene, bool particles = true);
 
 /// One rank's part of a distributed mpm-frag run.
 class DomainSolver {
  public:
   /// Every rank passes the same full set-up (scene_setup.hpp); each keeps the particles of its
-  /// slab. Collective. Throws common::InputError (too many ranks).
+  /// box. Collective. Throws common::InputError (too many ranks).
   DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt = {});
-  /// Each rank passes the particles of its slab of the given cuts (distributed_setup).
+  /// Each rank passes the particles of its box of the given tree (distributed_setup).
   /// Collective.
-  DomainSolver(MPI_Comm comm, const Setup& mine, const std::vector<int>& cut, DomainOptions opt = {});
+  DomainSolver(MPI_Comm comm, const Setup& mine, const Orb& orb, DomainOptions opt = {});
   /// Restart (checkpoint_mpi.cpp): each rank's `setup` holds its part of a checkpoint's
   /// particles and materials' state (file rows [layout.first, ...), in file order; any split of
   /// the rows over the ranks, one rank holding all included). When `layout` says the file was
-  /// written on as many ranks, every rank gets its particles back in their order and the cuts
-  /// are the layout's; otherwise the cuts balance the work (work_weights) and each rank keeps the file
-  /// order (a rank whose slab by work would not fit its memory stops the restart with the
-  /// set-up's message, check_memory; unlike a rebalancing, no fallback to the count's cuts).
+  /// written on as many ranks, every rank gets its particles back in their order and the tree
+  /// is the layout's; otherwise the tree balances the work (work_weights) and each rank keeps the
+  /// file order (a rank whose box by work would not fit its memory stops the restart with the
+  /// set-up's message, check_memory; unlike a rebalancing, no fallback to the count's tree).
   /// Collective. Follow with local().resume(), not initialize().
   DomainSolver(MPI_Comm comm, const Setup& setup, const Layout& layout, DomainOptions opt = {});
   /// Initial stress and wave speeds (collective).
@@ -254,11 +240,11 @@ class DomainSolver {
   OutflowRecord gather_outflow(int root);
   /// Imbalance max_r W_r / mean_r W_r of the ranks' work (work_weights; collective).
   double imbalance();
-  /// Recompute the cuts from the histogram of work and migrate (collective).
+  /// Recompute the tree from the histograms of work and migrate (collective).
   void rebalance();
 
   Solver& local() { return *solver_; }
-  const Slabs& slabs() const { return slabs_; }
+  const Orb& orb() const { return orb_; }
   const DomainStats& stats() const { return stats_; }
   Comm& comm() { return comm_; }
   double time() const { return solver_->time(); }
@@ -273,13 +259,13 @@ class DomainSolver {
  private:
   /// Send every particle to the owner of its cell (collective); returns whether this rank's set changed.
   void migrate();
-  /// This rank's work per plane of the split axis in [0, S_a), its particles per plane in [S_a, 2 S_a).
-  std::vector<long long> histogram() const;
-  void init_slabs(const Setup& setup);
+  /// The tree of this rank count balancing the work of every rank's particles `ps` (collective).
+  Orb balanced_orb(const ParticleSet& ps, const std::vector<MaterialSlot>& mats);
+  void init_orb(const Setup& setup);
   void build_solver(const Setup& setup, ParticleSet mine, std::vector<MaterialSlot> mats);
   /// Collective, before the grid is allocated: this rank's box and particles against its process
-  /// limit, the node's ranks together against the node's memory (slabs.cpp). InputError (exit 2)
-  /// on every rank, naming the largest rank's slab, when either is exceeded.
+  /// limit, the node's ranks together against the node's memory (work.cpp). InputError (exit 2)
+  /// on every rank, naming the largest rank's box, when either is exceeded.
   void check_memory(const std::vector<MaterialSlot>& mats) const;
   /// Collective: the largest ratio over the ranks of need to limit (process: this rank's box of
   /// `nodes` nodes and `bytes` of particles; node: its ranks together), that rank, and this
@@ -290,12 +276,12 @@ class DomainSolver {
     double need = 0, node_need = 0, process = 0, node = 0;
   };
   MemoryRatio memory_ratio(double nodes, double bytes) const;
-  int cell(double x) const;  ///< cell of coordinate x along the split axis
+  Eigen::Vector3i cell(const double* x) const;  ///< cell of position x, clamped to the grid
 
   Comm comm_;
   DomainOptions opt_;
   common::GridInfo grid_;
-  Slabs slabs_;
+  Orb orb_;
   std::unique_ptr<HaloExchange> halo_;
   std::unique_ptr<Solver> solver_;
   DomainStats stats_;
