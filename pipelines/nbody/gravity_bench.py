@@ -6,7 +6,8 @@ a large debris scene (pile plus as many flying fragments, nbody-debris-cloud, ru
 reaccumulation scene pipelines/impact/reaccumulate.toml for T simulated seconds).
 
   gravity_bench.py NEW OUTDIR [--old OLD] [--rounds 3] [--threads 1,2] [--sizes 10000:300,50000:100]
-                   [--debris H5:T]   (--sizes none: debris only)
+                   [--debris H5:T] [--theta X]   (--sizes none: debris only; --theta: the piles'
+                   opening angle instead of the default, e.g. the issue's 0.5)
 
 Each case runs old and new interleaved (old, new, old, new, ...) under OMP_NUM_THREADS = 1 and 2;
 the cost is wall time x threads / (spheres x steps) from ssdem-grav's `done:` phase times (the
@@ -68,6 +69,8 @@ def main():
     cases = []
     for n, steps in sizes:
         sets = scene(build, outdir, n, steps)
+        if o.get("--theta"):
+            sets.append(f"gravity.theta={float(o['--theta'])!r}")
         cases.append((f"dense pile {n}, {steps} steps, gravity every step", sets + ["gravity.every=1"], True))
         cases.append((f"dense pile {n}, {steps} steps, error-controlled cadence", sets + ['gravity.every=0'], True))
     if o.get("--debris"):
@@ -77,7 +80,8 @@ def main():
                 *SINGLE_RATE]  # the scene before its paper-method default
         reacc = os.path.join(ROOT, "pipelines", "impact", "reaccumulate.toml")
         cases.append((f"debris {os.path.basename(h5)}, {t_end} s, reaccumulation scene", sets, True, reacc))
-    lines = [f"# nbody-gravity-bench (old = {old or 'none'}, new = {new})", "",
+    theta = f", theta = {o['--theta']}" if o.get("--theta") else ""
+    lines = [f"# nbody-gravity-bench (old = {old or 'none'}, new = {new}{theta})", "",
              "us per sphere-step = wall x threads / (spheres x steps); median of the rounds; "
              "dE = |E_end / E_0 - 1|", "",
              "| case | threads | binary | us/sphere-step | gravity | neighbours | contacts | integrate | dE | old/new |",
