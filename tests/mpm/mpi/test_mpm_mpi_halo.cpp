@@ -7,10 +7,12 @@
 /// computed densely from every rank's partial values, for every field combination of the
 /// passes (mass, momentum, force, and together); fields outside the pass keep the rank's own
 /// partial. The boxes are cut along two axes, so on 3 ranks a node is held by three ranks. The
-/// bytes sent must be those of the nodes that are not all +0 (each way).
+/// bytes sent must be those of the nodes that are not all +0 (each way). And the drives' node
+/// flags: the smallest over the holders.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -43,21 +45,71 @@ double partial(int r, int i, int j, int k, int d) {
 
 }  // namespace
 
-TEST(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
-  const int R = rank_of(), P = size_of();
-  if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
+// The test's boxes: 2 ranks: one cut along y; 3 ranks: along x, then the upper part along y (a T
+// where three boxes meet: nodes held by all three); 4 ranks (by hand, CI runs 2 and 3): 2 x 2
+// boxes, nodes held by four ranks.
+namespace {
+mpi::Orb test_boxes(int P) {
   mpi::Orb orb;
   orb.shape = Eigen::Vector3i(14, 13, 12);
   orb.halo = 2;
   orb.min_width = 4;
-  // 2 ranks: one cut along y; 3 ranks: along x, then the upper part along y (a T where three
-  // boxes meet: nodes held by all three); 4 ranks (by hand, CI runs 2 and 3): 2 x 2 boxes, nodes
-  // held by four ranks
   std::vector<mpi::Orb::Split> split;
   if (P == 2) split = {{1, 6, 1}};
   if (P == 3) split = {{0, 7, 1}, {1, 6, 1}};
   if (P == 4) split = {{0, 7, 2}, {1, 6, 1}, {1, 5, 1}};
-  ASSERT_TRUE(orb.set(split));
+  EXPECT_TRUE(orb.set(split));
+  return orb;
+}
+}  // namespace
+
+// The drives' node flags (min_shared_drive): after the swap every held node carries the smallest
+// drive index any holder gave it (-1: none), the same on every holder, and `added` lists exactly
+// the nodes this rank had at -1 that now carry a drive.
+TEST(MpmMpiHalo, DriveFlagsAreTheSmallestOverTheHolders) {
+  const int R = rank_of(), P = size_of();
+  if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
+  const mpi::Orb orb = test_boxes(P);
+  mpi::Comm comm(MPI_COMM_WORLD);
+  mpi::HaloExchange halo(comm, orb);
+  const mpi::Box held = orb.held(R);
+  const Eigen::Vector3i sh = held.hi - held.lo;
+  auto flag = [](int r, int i, int j, int k) {  // a rank's own idea of node (i, j, k)'s drive
+    const int v = (i * 7 + j * 3 + k * 5 + r * 11) % 9;
+    return v < 4 ? -1 : v - 4;
+  };
+  std::vector<std::int32_t> drive(static_cast<std::size_t>(sh.prod()));
+  std::size_t at = 0;
+  for (int k = held.lo[2]; k < held.hi[2]; ++k)
+    for (int j = held.lo[1]; j < held.hi[1]; ++j)
+      for (int i = held.lo[0]; i < held.hi[0]; ++i) drive[at++] = flag(R, i, j, k);
+  std::vector<std::size_t> added;
+  halo.min_shared_drive(drive.data(), added);
+  std::sort(added.begin(), added.end());
+  std::size_t bad = 0, bad_added = 0;
+  at = 0;
+  for (int k = held.lo[2]; k < held.hi[2]; ++k)
+    for (int j = held.lo[1]; j < held.hi[1]; ++j)
+      for (int i = held.lo[0]; i < held.hi[0]; ++i, ++at) {
+        int want = -1;
+        for (int q = 0; q < P; ++q)
+          if (orb.held(q).contains(Eigen::Vector3i(i, j, k))) {
+            const int f = flag(q, i, j, k);
+            if (f >= 0 && (want < 0 || f < want)) want = f;
+          }
+        bad += drive[at] != want;
+        const bool was_added = std::binary_search(added.begin(), added.end(), at);
+        bad_added += was_added != (flag(R, i, j, k) < 0 && want >= 0);
+      }
+  EXPECT_EQ(bad, 0u) << "rank " << R;
+  EXPECT_EQ(bad_added, 0u) << "rank " << R;
+  EXPECT_EQ(std::adjacent_find(added.begin(), added.end()), added.end()) << "a node added twice";
+}
+
+TEST(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
+  const int R = rank_of(), P = size_of();
+  if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
+  const mpi::Orb orb = test_boxes(P);
   mpi::Comm comm(MPI_COMM_WORLD);
   mpi::HaloExchange halo(comm, orb);
   const mpi::Box held = orb.held(R);
