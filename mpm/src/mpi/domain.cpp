@@ -35,11 +35,10 @@ Orb orb_layout(const common::GridInfo& grid, int ghost_layers) {
   o.min_width = std::max({2 * o.halo, 2 * ghost_layers + 1 - o.halo, 1});
   return o;
 }
-/// orb_cuts of the layout `o` for `ranks`, from the weights each(add) reports (add(x, w) per
-/// particle at position x of weight w), summed over `comm` when given.
-template <class Each>
-Orb orb_of(const Orb& o, const common::GridInfo& g, int ranks, Each&& each, Comm* comm) {
-  return orb_cuts(o.shape, ranks, o.halo, o.min_width,
+}  // namespace
+
+Orb orb_of_particles(const Orb& layout, const common::GridInfo& g, int ranks, const WeightedParticles& each, Comm* comm) {
+  return orb_cuts(layout.shape, ranks, layout.halo, layout.min_width,
                   [&](const std::vector<OrbRequest>& req, const std::function<int(const Eigen::Vector3i&)>& locate) {
                     std::vector<std::vector<long long>> h(req.size());
                     for (std::size_t q = 0; q < req.size(); ++q)
@@ -60,7 +59,6 @@ Orb orb_of(const Orb& o, const common::GridInfo& g, int ranks, Each&& each, Comm
                     return h;
                   });
 }
-}  // namespace
 
 Subdomain subdomain_of(const Orb& orb, int r) {
   const Box held = orb.held(r), own = orb.own()[static_cast<std::size_t>(r)];
@@ -77,7 +75,7 @@ DomainSolver::DomainSolver(MPI_Comm comm, const Setup& setup, DomainOptions opt)
     : comm_(comm), opt_(opt), grid_(setup.grid) {
   init_orb(setup);
   const ParticleSet& ps = setup.particles;
-  orb_ = orb_of(orb_, grid_, comm_.size, [&](auto&& add) {
+  orb_ = orb_of_particles(orb_, grid_, comm_.size, [&](const auto& add) {
     for (std::size_t p = 0; p < ps.size(); ++p) add(&ps.x[3 * p], 1);
   }, nullptr);
   std::vector<char> keep(ps.size());
@@ -111,7 +109,7 @@ std::pair<Setup, Orb> distributed_setup(MPI_Comm comm, const common::Scene& scen
   const common::GridInfo& g = shape.grid;
   // the particles per plane of each box being cut: every rank walks the lattice itself (the same
   // integers everywhere: no reduction)
-  Orb orb = orb_of(orb_layout(g, shape.solver.ghost_layers), g, size, [&](auto&& add) {
+  Orb orb = orb_of_particles(orb_layout(g, shape.solver.ghost_layers), g, size, [&](const auto& add) {
     SetupPart counting;
     counting.each = [&](const Eigen::Vector3d& x) { add(x.data(), 1); };
     (void)build_setup(scene, builtin_materials(), &counting);
@@ -136,7 +134,7 @@ Eigen::Vector3i DomainSolver::cell(const double* x) const { return cell_of(grid_
 
 Orb DomainSolver::balanced_orb(const ParticleSet& ps, const std::vector<MaterialSlot>& mats) {
   const std::vector<long long> w = work_weights(ps, mats);
-  return orb_of(orb_, grid_, comm_.size, [&](auto&& add) {
+  return orb_of_particles(orb_, grid_, comm_.size, [&](const auto& add) {
     for (std::size_t p = 0; p < ps.size(); ++p) add(&ps.x[3 * p], w[p]);
   }, &comm_);
 }

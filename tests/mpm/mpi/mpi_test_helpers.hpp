@@ -55,25 +55,13 @@ struct SharedDir {
 /// computed here from the whole set: what every DomainSolver must arrive at.
 inline mpi::Orb orb_of(const common::GridInfo& g, int ranks, int min_width, const ParticleSet& ps,
                        const std::vector<long long>& w = {}) {
-  auto cell = [&](std::size_t p) {
-    Eigen::Vector3i c;
-    for (int a = 0; a < 3; ++a)
-      c[a] = static_cast<int>(std::clamp(std::floor((ps.x[3 * p + a] - g.origin[a]) / g.cell_size[a]), 0.0,
-                                         static_cast<double>(g.shape[a] - 1)));
-    return c;
-  };
-  return mpi::orb_cuts(g.shape, ranks, 2, min_width,
-                       [&](const std::vector<mpi::OrbRequest>& req, const std::function<int(const Eigen::Vector3i&)>& locate) {
-                         std::vector<std::vector<long long>> h(req.size());
-                         for (std::size_t q = 0; q < req.size(); ++q)
-                           h[q].assign(static_cast<std::size_t>(req[q].box.hi[req[q].axis] - req[q].box.lo[req[q].axis]), 0);
-                         for (std::size_t p = 0; p < ps.size(); ++p) {
-                           const Eigen::Vector3i c = cell(p);
-                           const int q = locate(c);
-                           if (q >= 0) h[q][c[req[q].axis] - req[q].box.lo[req[q].axis]] += w.empty() ? 1 : w[p];
-                         }
-                         return h;
-                       });
+  mpi::Orb layout;
+  layout.shape = g.shape;
+  layout.halo = 2;
+  layout.min_width = min_width;
+  return mpi::orb_of_particles(layout, g, ranks, [&](const auto& add) {
+    for (std::size_t p = 0; p < ps.size(); ++p) add(&ps.x[3 * p], w.empty() ? 1 : w[p]);
+  });
 }
 
 inline void run_serial(Solver& s, double t) {

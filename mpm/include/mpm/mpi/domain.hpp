@@ -71,6 +71,7 @@
 #pragma once
 #include <mpi.h>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -189,6 +190,15 @@ struct OutflowRecord {
   Diagnostics totals;
   std::vector<double> rank_totals;
 };
+
+/// Reports every particle to `add` as add(x, w): its position (3 doubles) and integer weight.
+using WeightedParticles = std::function<void(const std::function<void(const double*, long long)>& add)>;
+/// The ORB (orb_cuts) of grid `g` for `ranks` ranks, with the halo and narrowest side of `layout`,
+/// from the weights of the particles `each` reports in each cell (c = floor((x - o) / h), clamped):
+/// with `comm` every rank reports its own particles and each level's histograms are summed (one
+/// exact integer allreduce per level), without it the caller reports them all.
+Orb orb_of_particles(const Orb& layout, const common::GridInfo& g, int ranks, const WeightedParticles& each,
+                     Comm* comm = nullptr);
 
 /// The Subdomain of rank r: the box it holds, the box it owns.
 Subdomain subdomain_of(const Orb& orb, int r);
