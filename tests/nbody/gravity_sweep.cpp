@@ -4,7 +4,7 @@
 /// across opening angle, leaf bucket size and sink group size, on a sphere file (the dense pile, the debris cloud),
 /// to choose gravity.theta and gravity.bucket by measurement (pipelines/nbody, nbody-gravity-sweep).
 /// Usage: nbody-gravity-sweep SPHERES.h5 [thetas=0.3,0.4,0.5,0.6,0.7] [buckets=8,16] [groups=32,64,128] [reps=3]
-/// SWEEP_NO_DIRECT=1 in the environment: cost only, no direct summation (O(N^2): minutes at 2e5
+/// SWEEP_NO_DIRECT set (to anything but "" or "0") in the environment: cost only, no direct summation (O(N^2): minutes at 2e5
 /// spheres); the error columns then read "-".
 #include <omp.h>
 
@@ -40,7 +40,8 @@ int main(int argc, char** argv) {
   const std::vector<double> buckets = list(argc > 3 ? argv[3] : "8,16");
   const std::vector<double> groups = list(argc > 4 ? argv[4] : "32,64,128");
   const int reps = argc > 5 ? std::atoi(argv[5]) : 3;
-  const bool no_direct = std::getenv("SWEEP_NO_DIRECT") != nullptr;
+  const char* nd = std::getenv("SWEEP_NO_DIRECT");
+  const bool no_direct = nd != nullptr && *nd != '\0' && std::string(nd) != "0";
   std::vector<Vec3> ad;
   if (!no_direct) direct_gravity(sp, 1.0, ad);
   double arms = 0;
