@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <memory>
 
 #include "common/rng.hpp"
 #include "mpm/mpi/domain.hpp"
@@ -45,35 +46,37 @@ double partial(int r, int i, int j, int k, int d) {
 
 }  // namespace
 
-// The test's boxes: 2 ranks: one cut along y; 3 ranks: along x, then the upper part along y (a T
-// where three boxes meet: nodes held by all three); 4 ranks (by hand, CI runs 2 and 3): 2 x 2
-// boxes, nodes held by four ranks.
-namespace {
-mpi::Orb test_boxes(int P) {
+// The test's boxes and their halo exchange on this rank. 2 ranks: one cut along y; 3 ranks: along
+// x, then the upper part along y (a T where three boxes meet: nodes held by all three); 4 ranks
+// (by hand, CI runs 2 and 3): 2 x 2 boxes, nodes held by four ranks.
+class MpmMpiHalo : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
+    orb.shape = Eigen::Vector3i(14, 13, 12);
+    orb.halo = 2;
+    orb.min_width = 4;
+    std::vector<mpi::Orb::Split> split;
+    if (P == 2) split = {{1, 6, 1}};
+    if (P == 3) split = {{0, 7, 1}, {1, 6, 1}};
+    if (P == 4) split = {{0, 7, 2}, {1, 6, 1}, {1, 5, 1}};
+    ASSERT_TRUE(orb.set(split));
+    halo = std::make_unique<mpi::HaloExchange>(comm, orb);
+    held = orb.held(R);
+    sh = held.hi - held.lo;
+  }
+  const int R = rank_of(), P = size_of();
   mpi::Orb orb;
-  orb.shape = Eigen::Vector3i(14, 13, 12);
-  orb.halo = 2;
-  orb.min_width = 4;
-  std::vector<mpi::Orb::Split> split;
-  if (P == 2) split = {{1, 6, 1}};
-  if (P == 3) split = {{0, 7, 1}, {1, 6, 1}};
-  if (P == 4) split = {{0, 7, 2}, {1, 6, 1}, {1, 5, 1}};
-  EXPECT_TRUE(orb.set(split));
-  return orb;
-}
-}  // namespace
+  mpi::Comm comm{MPI_COMM_WORLD};
+  std::unique_ptr<mpi::HaloExchange> halo;  // holds comm and orb
+  mpi::Box held;
+  Eigen::Vector3i sh;
+};
 
 // The drives' node flags (min_shared_drive): after the swap every held node carries the smallest
 // drive index any holder gave it (-1: none), the same on every holder, and `added` lists exactly
 // the nodes this rank had at -1 that now carry a drive.
-TEST(MpmMpiHalo, DriveFlagsAreTheSmallestOverTheHolders) {
-  const int R = rank_of(), P = size_of();
-  if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
-  const mpi::Orb orb = test_boxes(P);
-  mpi::Comm comm(MPI_COMM_WORLD);
-  mpi::HaloExchange halo(comm, orb);
-  const mpi::Box held = orb.held(R);
-  const Eigen::Vector3i sh = held.hi - held.lo;
+TEST_F(MpmMpiHalo, DriveFlagsAreTheSmallestOverTheHolders) {
   auto flag = [](int r, int i, int j, int k) {  // a rank's own idea of node (i, j, k)'s drive
     const int v = (i * 7 + j * 3 + k * 5 + r * 11) % 9;
     return v < 4 ? -1 : v - 4;
@@ -84,7 +87,7 @@ TEST(MpmMpiHalo, DriveFlagsAreTheSmallestOverTheHolders) {
     for (int j = held.lo[1]; j < held.hi[1]; ++j)
       for (int i = held.lo[0]; i < held.hi[0]; ++i) drive[at++] = flag(R, i, j, k);
   std::vector<std::size_t> added;
-  halo.min_shared_drive(drive.data(), added);
+  halo->min_shared_drive(drive.data(), added);
   std::sort(added.begin(), added.end());
   std::size_t bad = 0, bad_added = 0;
   at = 0;
@@ -106,14 +109,7 @@ TEST(MpmMpiHalo, DriveFlagsAreTheSmallestOverTheHolders) {
   EXPECT_EQ(std::adjacent_find(added.begin(), added.end()), added.end()) << "a node added twice";
 }
 
-TEST(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
-  const int R = rank_of(), P = size_of();
-  if (P > 4) GTEST_SKIP() << "trees for 2-4 ranks";
-  const mpi::Orb orb = test_boxes(P);
-  mpi::Comm comm(MPI_COMM_WORLD);
-  mpi::HaloExchange halo(comm, orb);
-  const mpi::Box held = orb.held(R);
-  const Eigen::Vector3i sh = held.hi - held.lo;
+TEST_F(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
   const std::size_t n = static_cast<std::size_t>(sh.prod());
   auto idx = [&](int i, int j, int k) {
     return static_cast<std::size_t>(i - held.lo[0]) +
@@ -129,8 +125,8 @@ TEST(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
           double* nd = reinterpret_cast<double*>(&nodes[idx(i, j, k)]);
           for (int d = 0; d < 8; ++d) nd[d] = partial(R, i, j, k, d);
         }
-    const double before = halo.bytes_sent;
-    halo.sum_shared(nodes.data(), fields);
+    const double before = halo->bytes_sent;
+    halo->sum_shared(nodes.data(), fields);
     int per = 0;
     for (int b = 0; b < 3; ++b)
       if (fields & (1 << b)) per += offs[b][1];
@@ -163,7 +159,7 @@ TEST(MpmMpiHalo, SparseSwapEqualsTheOwnersOrderedSumBitForBit) {
           if (o == R && sum_nonzero) expected_sent += 8 * (1 + per) * others.size();
         }
     EXPECT_EQ(bad, 0u) << "rank " << R << ", fields " << fields;
-    EXPECT_EQ(halo.bytes_sent - before, static_cast<double>(expected_sent)) << "rank " << R << ", fields " << fields;
+    EXPECT_EQ(halo->bytes_sent - before, static_cast<double>(expected_sent)) << "rank " << R << ", fields " << fields;
   }
   int all3 = holders3;
   MPI_Allreduce(MPI_IN_PLACE, &all3, 1, MPI_INT, MPI_SUM, MPI_COMM_WORLD);
